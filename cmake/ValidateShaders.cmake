@@ -1,0 +1,46 @@
+# cmake -DDUMP=ft_shader_dump -DVALIDATOR=glslangValidator -DOUT_DIR=dir -DDEFINES=A,B,C
+#       -P ValidateShaders.cmake
+# Dumps every resolved shader stage (plain and once per fault define) and runs
+# glslangValidator on each with its stage; fails on any error.
+file(REMOVE_RECURSE ${OUT_DIR})
+string(REPLACE "," ";" defines "${DEFINES}")
+set(args --out ${OUT_DIR})
+foreach(d IN LISTS defines)
+  list(APPEND args --define ${d})
+endforeach()
+execute_process(COMMAND ${DUMP} ${args} RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "ft_shader_dump failed (${rc})")
+endif()
+file(GLOB_RECURSE files ${OUT_DIR}/*.glsl)
+list(LENGTH files count)
+if(count EQUAL 0)
+  message(FATAL_ERROR "ft_shader_dump wrote no shaders into ${OUT_DIR}")
+endif()
+# One glslangValidator run per stage over all its files (each still compiles
+# on its own without -l): process start-up dominates otherwise.
+set(stages "")
+foreach(f IN LISTS files)
+  if(NOT f MATCHES "\\.(vert|tesc|tese|geom|frag|comp)\\.glsl$")
+    message(FATAL_ERROR "no stage suffix: ${f}")
+  endif()
+  list(APPEND stages ${CMAKE_MATCH_1})
+  list(APPEND files_${CMAKE_MATCH_1} ${f})
+endforeach()
+list(REMOVE_DUPLICATES stages)
+set(failed "")
+foreach(stage IN LISTS stages)
+  execute_process(COMMAND ${VALIDATOR} -S ${stage} ${files_${stage}} RESULT_VARIABLE rc
+                  OUTPUT_VARIABLE log ERROR_VARIABLE log)
+  if(NOT rc EQUAL 0)
+    # Map "ERROR: <source id>:<line>:" back to the embedded file names.
+    file(WRITE ${OUT_DIR}/${stage}.log "${log}")
+    execute_process(COMMAND ${DUMP} --map-log ${OUT_DIR}/${stage}.log OUTPUT_VARIABLE mapped)
+    message("glslangValidator -S ${stage} failed:\n${mapped}")
+    list(APPEND failed ${stage})
+  endif()
+endforeach()
+if(failed)
+  message(FATAL_ERROR "glslangValidator rejected shader files of stage(s): ${failed}")
+endif()
+message(STATUS "glslangValidator accepted ${count} shader files")

@@ -1,0 +1,49 @@
+// constants.h — binding slots and work-group sizes shared by the C++ host code
+// and the shaders, so a slot is named in one place only.
+#ifndef FT_CONSTANTS_H
+#define FT_CONSTANTS_H
+#include "prelude.h"
+
+// Uniform-buffer bindings (std140).
+#define FT_UBO_YARN_PARAMS 0
+#define FT_UBO_VIEW_PARAMS 1
+#define FT_UBO_DISPATCH 2
+
+// Shader-storage bindings (std430).
+#define FT_SSBO_CONTROL_POINTS 0
+#define FT_SSBO_CURVES 1
+#define FT_SSBO_SEGMENTS 2
+#define FT_SSBO_FRAMES 3
+#define FT_SSBO_FIBER_TABLE 4
+#define FT_SSBO_DECISIONS 5
+#define FT_SSBO_OFFSETS 6
+#define FT_SSBO_VERTICES 7
+#define FT_SSBO_INDICES 8
+#define FT_SSBO_DRAW_COMMAND 9
+#define FT_SSBO_SEGMENT_LIST 10
+#define FT_SSBO_LAYOUT_PROBE 11
+
+// Work-group sizes (local_size_x).
+#define FT_WG_FRAMES 64
+#define FT_WG_DECIDE 64
+#define FT_WG_SCAN 1024
+#define FT_WG_GENERATE 64
+
+// Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
+#define FT_RESTART_INDEX 0xFFFFFFFFu
+
+// Fiber types, stored in FiberVertex.id.w bits 0..7.
+#define FT_FIBER_CORE 0u
+#define FT_FIBER_MIGRATION 1u
+#define FT_FIBER_LOOP 2u
+#define FT_FIBER_HAIR 3u
+
+// Fiber id used for a ply's core fiber in FiberVertex.id.z (low 16 bits).
+#define FT_CORE_FIBER_ID 0xFFFFu
+
+// Hard limits that keep ids packable into 16 bits and tessellation legal.
+#define FT_MAX_PLIES 8u
+#define FT_MAX_FIBERS_PER_PLY 4096u
+#define FT_MAX_SUBDIVISIONS 64u
+
+#endif  // FT_CONSTANTS_H

@@ -1,0 +1,50 @@
+// fiber_vertex.h — what fiber generation produces, on every path: the
+// per-segment LoD/culling decision and the tagged fiber vertices (std430).
+#ifndef FT_FIBER_VERTEX_H
+#define FT_FIBER_VERTEX_H
+#include "prelude.h"
+
+FT_NAMESPACE_BEGIN
+
+struct FiberVertex {
+  vec4 position;  // xyz world position, w = half-width of the camera-facing strip
+  uvec4 id;       // x yarn (curve), y global segment, z ply << 16 | fiber (FT_CORE_FIBER_ID for core),
+                  // w type (bits 0..7) | vertex index along the segment (bits 8..15) | period (bits 16..31)
+};
+FT_ASSERT_OFFSET(FiberVertex, id, 16)
+FT_ASSERT_SIZE(FiberVertex, 32)
+
+struct SegmentDecision {
+  float lambda;          // λ of eq. 4
+  float coreHalfWidth;   // core fiber half-width after LoD scaling
+  uint regularCount;     // regular fibers per ply generated (outermost first)
+  uint subdivisions;     // line segments per fiber; 0 when culled
+  uint culled;           // 1: outside the view frustum, nothing generated
+  uint vertexCount;      // vertices this segment emits
+  uint pad0;
+  uint pad1;
+};
+FT_ASSERT_OFFSET(SegmentDecision, regularCount, 8)
+FT_ASSERT_OFFSET(SegmentDecision, vertexCount, 20)
+FT_ASSERT_SIZE(SegmentDecision, 32)
+
+// glDrawElementsIndirect command, filled by the compute path.
+struct DrawElementsCommand {
+  uint count;
+  uint instanceCount;
+  uint firstIndex;
+  uint baseVertex;
+  uint baseInstance;
+  uint vertexTotal;   // not read by GL: total vertices written, for read-back
+  uint pad0;
+  uint pad1;
+};
+FT_ASSERT_SIZE(DrawElementsCommand, 32)
+
+FT_FUNC uint ftPackFiberId(uint ply, uint fiber) { return (ply << 16u) | (fiber & 0xFFFFu); }
+FT_FUNC uint ftPackTypeVertex(uint type, uint vertex, uint period) {
+  return (type & 0xFFu) | ((vertex & 0xFFu) << 8u) | ((period & 0xFFFFu) << 16u);
+}
+
+FT_NAMESPACE_END
+#endif  // FT_FIBER_VERTEX_H

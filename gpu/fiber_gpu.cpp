@@ -1,0 +1,346 @@
+#include "gpu/fiber_gpu.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <stdexcept>
+
+#include "common/constants.h"
+#include "gpu/shader_library.h"
+
+namespace ft {
+
+namespace {
+
+GLuint makeBuffer(size_t bytes, const void* data = nullptr) {
+  GLuint b = 0;
+  glCreateBuffers(1, &b);
+  glNamedBufferData(b, static_cast<GLsizeiptr>(std::max<size_t>(bytes, 16)), data, GL_DYNAMIC_DRAW);
+  return b;
+}
+
+void replaceBuffer(GLuint& b, size_t bytes, const void* data = nullptr) {
+  if (b) glDeleteBuffers(1, &b);
+  b = makeBuffer(bytes, data);
+}
+
+template <class T>
+std::vector<T> readBack(GLuint buffer, size_t count) {
+  std::vector<T> out(count);
+  if (count) glGetNamedBufferSubData(buffer, 0, static_cast<GLsizeiptr>(count * sizeof(T)), out.data());
+  return out;
+}
+
+void setUint(GLuint program, const char* name, uint32_t value) {
+  GLint loc = glGetUniformLocation(program, name);
+  if (loc >= 0) glProgramUniform1ui(program, loc, value);
+}
+
+uint32_t checkedGroups(size_t items, size_t groupSize, int limit, const char* what) {
+  const size_t groups = (items + groupSize - 1) / groupSize;
+  if (groups > static_cast<size_t>(limit))
+    throw std::runtime_error(fmt::format("{}: {} work groups exceed GL_MAX_COMPUTE_WORK_GROUP_COUNT ({})", what,
+                                         groups, limit));
+  return static_cast<uint32_t>(groups);
+}
+
+}  // namespace
+
+FiberGpu::FiberGpu(std::vector<std::string> defines, int maxTessGenLevel, int maxWorkGroupCountY,
+                   int maxWorkGroupCountZ)
+    : defines_(std::move(defines)),
+      linesPerPatch_(std::min(maxTessGenLevel, 64)),
+      maxGroupsY_(maxWorkGroupCountY),
+      maxGroupsZ_(maxWorkGroupCountZ) {
+  framesProgram_ = buildProgram({"shaders/yarn_frames.comp.glsl"}, defines_);
+  decideProgram_ = buildProgram({"shaders/fiber_decide.comp.glsl"}, defines_);
+  scanProgram_ = buildProgram({"shaders/fiber_scan.comp.glsl"}, defines_);
+  generateProgram_ = buildProgram({"shaders/fiber_generate.comp.glsl"}, defines_);
+  const std::vector<std::string> tess = {"shaders/fiber_tess.vert.glsl", "shaders/fiber_tess.tesc.glsl",
+                                         "shaders/fiber_tess.tese.glsl"};
+  tessCaptureProgram_ = buildProgram(tess, defines_, {"fiberPosition", "fiberId"});
+  std::vector<std::string> tessDraw = tess;
+  tessDraw.push_back("shaders/fiber_strip.geom.glsl");
+  tessDraw.push_back("shaders/fiber_strip.frag.glsl");
+  tessDrawProgram_ = buildProgram(tessDraw, defines_);
+  stripDrawProgram_ = buildProgram(
+      {"shaders/fiber_strip.vert.glsl", "shaders/fiber_strip.geom.glsl", "shaders/fiber_strip.frag.glsl"}, defines_);
+  glCreateVertexArrays(1, &vao_);
+  glCreateFramebuffers(1, &captureFbo_);
+  glNamedFramebufferParameteri(captureFbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, 1);
+  glNamedFramebufferParameteri(captureFbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, 1);
+  yarnUbo_ = makeBuffer(sizeof(YarnParams));
+  viewUbo_ = makeBuffer(sizeof(ViewParams));
+  draw_ = makeBuffer(sizeof(DrawElementsCommand));
+}
+
+FiberGpu::~FiberGpu() {
+  for (GLuint p : {framesProgram_, decideProgram_, scanProgram_, generateProgram_, tessCaptureProgram_,
+                   tessDrawProgram_, stripDrawProgram_})
+    if (p) glDeleteProgram(p);
+  GLuint buffers[] = {yarnUbo_, viewUbo_, points_, curves_, segments_, frames_, table_,
+                      list_,    decisions_, offsets_, vertices_, indices_, draw_, xfb_};
+  glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  if (captureFbo_) glDeleteFramebuffers(1, &captureFbo_);
+}
+
+void FiberGpu::bindCommon() const {
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_YARN_PARAMS, yarnUbo_);
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_VIEW_PARAMS, viewUbo_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CONTROL_POINTS, points_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CURVES, curves_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SEGMENTS, segments_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAMES, frames_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FIBER_TABLE, table_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SEGMENT_LIST, list_);
+  if (decisions_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DECISIONS, decisions_);
+  if (offsets_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_OFFSETS, offsets_);
+  if (vertices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vertices_);
+  if (indices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_INDICES, indices_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DRAW_COMMAND, draw_);
+}
+
+void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fiberTable) {
+  replaceBuffer(points_, yarn.points.size() * sizeof(ControlPoint), yarn.points.data());
+  replaceBuffer(curves_, yarn.curves.size() * sizeof(CurveInfo), yarn.curves.data());
+  replaceBuffer(segments_, yarn.segments.size() * sizeof(SegmentRef), yarn.segments.data());
+  replaceBuffer(table_, fiberTable.size_bytes(), fiberTable.data());
+  replaceBuffer(frames_, yarn.knotCount * sizeof(FrameNormal));
+  curveCount_ = yarn.curves.size();
+  segmentCount_ = yarn.segments.size();
+  knotCount_ = yarn.knotCount;
+  inputBytes_ = yarn.byteSize() + fiberTable.size_bytes();
+  setSegmentList({});
+
+  bindCommon();
+  glUseProgram(framesProgram_);
+  setUint(framesProgram_, "curveCount", static_cast<uint32_t>(curveCount_));
+  glDispatchCompute(checkedGroups(curveCount_, FT_WG_FRAMES, 65535, "yarn_frames"), 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void FiberGpu::setParams(const YarnParams& params, const ViewParams& view) {
+  params_ = params;
+  glNamedBufferSubData(yarnUbo_, 0, sizeof(YarnParams), &params);
+  glNamedBufferSubData(viewUbo_, 0, sizeof(ViewParams), &view);
+}
+
+void FiberGpu::setSegmentList(std::span<const uint32_t> segments) {
+  std::vector<uint32_t> all;
+  if (segments.empty()) {
+    all.resize(segmentCount_);
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
+    segments = all;
+  }
+  for (uint32_t s : segments)
+    if (s >= segmentCount_)
+      throw std::runtime_error(fmt::format("segment list: segment {} out of range ({} segments)", s, segmentCount_));
+  listCount_ = segments.size();
+  replaceBuffer(list_, segments.size_bytes(), segments.data());
+  replaceBuffer(decisions_, listCount_ * sizeof(SegmentDecision));
+  replaceBuffer(offsets_, listCount_ * sizeof(glm::uvec2));
+}
+
+std::vector<FrameNormal> FiberGpu::readFrames() const { return readBack<FrameNormal>(frames_, knotCount_); }
+
+void FiberGpu::generateCompute() {
+  bindCommon();
+  glUseProgram(decideProgram_);
+  setUint(decideProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  glDispatchCompute(checkedGroups(listCount_, FT_WG_DECIDE, 65535, "fiber_decide"), 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(scanProgram_);
+  setUint(scanProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  glDispatchCompute(1, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  // The only CPU–GPU sync of the path: the totals size the output buffers.
+  ensureComputeCapacity();
+  bindCommon();
+  glUseProgram(generateProgram_);
+  const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
+  const uint32_t groupsX = checkedGroups(slots, FT_WG_GENERATE, 65535, "fiber_generate x");
+  const uint32_t groupsY = static_cast<uint32_t>(std::min<size_t>(listCount_, static_cast<size_t>(maxGroupsY_)));
+  const uint32_t groupsZ = checkedGroups(listCount_, std::max<uint32_t>(groupsY, 1), maxGroupsZ_, "fiber_generate z");
+  setUint(generateProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  setUint(generateProgram_, "groupsY", groupsY);
+  if (listCount_) glDispatchCompute(groupsX, groupsY, groupsZ);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void FiberGpu::ensureComputeCapacity() {
+  const DrawElementsCommand cmd = readDrawCommand();
+  if (cmd.vertexTotal > vertexCapacity_ || !vertices_) {
+    vertexCapacity_ = std::max<size_t>(cmd.vertexTotal, vertexCapacity_ * 3 / 2);
+    replaceBuffer(vertices_, vertexCapacity_ * sizeof(FiberVertex));
+  }
+  if (cmd.count > indexCapacity_ || !indices_) {
+    indexCapacity_ = std::max<size_t>(cmd.count, indexCapacity_ * 3 / 2);
+    replaceBuffer(indices_, indexCapacity_ * sizeof(uint32_t));
+  }
+}
+
+std::vector<SegmentDecision> FiberGpu::readDecisions() const {
+  return readBack<SegmentDecision>(decisions_, listCount_);
+}
+
+DrawElementsCommand FiberGpu::readDrawCommand() const {
+  DrawElementsCommand cmd{};
+  glGetNamedBufferSubData(draw_, 0, sizeof(cmd), &cmd);
+  return cmd;
+}
+
+std::vector<FiberVertex> FiberGpu::readComputeVertices() const {
+  return readBack<FiberVertex>(vertices_, readDrawCommand().vertexTotal);
+}
+
+size_t FiberGpu::tessellationCapacity() const { return xfbCapacityLines_; }
+
+size_t FiberGpu::captureTessellation() {
+  // Size the capture from the GPU's own decisions (decide + scan passes); an
+  // overflow is still detected below by comparing the two primitive queries.
+  bindCommon();
+  glUseProgram(decideProgram_);
+  setUint(decideProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  glDispatchCompute(checkedGroups(listCount_, FT_WG_DECIDE, 65535, "fiber_decide"), 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(scanProgram_);
+  setUint(scanProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  glDispatchCompute(1, 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const DrawElementsCommand cmd = readDrawCommand();
+  const size_t lines = 2 * static_cast<size_t>(cmd.vertexTotal) - cmd.count;  // vertices - strips
+  if (lines > xfbCapacityLines_ || !xfb_) {
+    xfbCapacityLines_ = std::max<size_t>(lines, 1);
+    replaceBuffer(xfb_, xfbCapacityLines_ * 2 * sizeof(FiberVertex));
+  }
+
+  bindCommon();
+  glUseProgram(tessCaptureProgram_);
+  setUint(tessCaptureProgram_, "linesPerPatch", static_cast<uint32_t>(linesPerPatch_));
+  glBindVertexArray(vao_);
+  glPatchParameteri(GL_PATCH_VERTICES, 4);
+  glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_);
+  GLuint queries[2];
+  glGenQueries(2, queries);
+  glBindFramebuffer(GL_FRAMEBUFFER, captureFbo_);
+  glEnable(GL_RASTERIZER_DISCARD);
+  glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
+  glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
+  glBeginTransformFeedback(GL_LINES);
+  const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
+  const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch_ - 1) / linesPerPatch_);
+  glDrawArraysInstanced(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_), instances);
+  glEndTransformFeedback();
+  glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+  glEndQuery(GL_PRIMITIVES_GENERATED);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  GLuint generated = 0, written = 0;
+  glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &generated);
+  glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &written);
+  glDeleteQueries(2, queries);
+  if (generated != written)
+    throw std::runtime_error(fmt::format("tessellation capture overflow: {} lines generated, {} written (buffer "
+                                         "sized for {} from the GPU decisions)",
+                                         generated, written, xfbCapacityLines_));
+  xfbLines_ = written;
+  return xfbLines_;
+}
+
+std::vector<FiberVertex> FiberGpu::readTessellationLines() const { return readBack<FiberVertex>(xfb_, 2 * xfbLines_); }
+
+template <class Draw>
+RgbaImage FiberGpu::renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw) {
+  GLuint fbo[2], color[2], depth;
+  glCreateFramebuffers(2, fbo);
+  glCreateRenderbuffers(2, color);
+  glCreateRenderbuffers(1, &depth);
+  glNamedRenderbufferStorageMultisample(color[0], 4, GL_RGBA8, width, height);
+  glNamedRenderbufferStorageMultisample(depth, 4, GL_DEPTH_COMPONENT24, width, height);
+  glNamedRenderbufferStorage(color[1], GL_RGBA8, width, height);
+  glNamedFramebufferRenderbuffer(fbo[0], GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color[0]);
+  glNamedFramebufferRenderbuffer(fbo[0], GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  glNamedFramebufferRenderbuffer(fbo[1], GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color[1]);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo[0]);
+  glViewport(0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  glClearColor(style.background.x, style.background.y, style.background.z, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  bindCommon();
+  glUseProgram(program);
+  glProgramUniform3f(program, glGetUniformLocation(program, "lightDir"), style.lightDir.x, style.lightDir.y,
+                     style.lightDir.z);
+  glProgramUniform3f(program, glGetUniformLocation(program, "baseColor"), style.baseColor.x, style.baseColor.y,
+                     style.baseColor.z);
+  glBindVertexArray(vao_);
+  draw();
+  glBlitNamedFramebuffer(fbo[0], fbo[1], 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  RgbaImage img{width, height, std::vector<uint8_t>(static_cast<size_t>(width) * height * 4)};
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo[1]);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  std::vector<uint8_t> rows(img.pixels.size());
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  for (int y = 0; y < height; ++y)  // GL's row 0 is the bottom
+    std::copy_n(rows.data() + static_cast<size_t>(height - 1 - y) * width * 4, width * 4,
+                img.pixels.data() + static_cast<size_t>(y) * width * 4);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDisable(GL_DEPTH_TEST);
+  glDeleteFramebuffers(2, fbo);
+  glDeleteRenderbuffers(2, color);
+  glDeleteRenderbuffers(1, &depth);
+  return img;
+}
+
+RgbaImage FiberGpu::renderCompute(int width, int height, const RenderStyle& style) {
+  generateCompute();
+  return renderWith(width, height, style, stripDrawProgram_, [&] {
+    glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_);
+    glDrawElementsIndirect(GL_LINE_STRIP, GL_UNSIGNED_INT, nullptr);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  });
+}
+
+RgbaImage FiberGpu::renderTessellation(int width, int height, const RenderStyle& style) {
+  return renderWith(width, height, style, tessDrawProgram_, [&] {
+    setUint(tessDrawProgram_, "linesPerPatch", static_cast<uint32_t>(linesPerPatch_));
+    glPatchParameteri(GL_PATCH_VERTICES, 4);
+    const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
+    const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch_ - 1) / linesPerPatch_);
+    glDrawArraysInstanced(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_), instances);
+  });
+}
+
+RgbaImage FiberGpu::renderVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions,
+                                   int width, int height, const RenderStyle& style) {
+  // Rebuild the strip indices of a canonical-order stream on the host.
+  std::vector<uint32_t> indices;
+  size_t base = 0;
+  for (const SegmentDecision& d : decisions) {
+    if (d.culled) continue;
+    const size_t strips = static_cast<size_t>(params_.plyCount) * (1u + d.regularCount);
+    for (size_t s = 0; s < strips; ++s) {
+      for (uint32_t v = 0; v <= d.subdivisions; ++v) indices.push_back(static_cast<uint32_t>(base++));
+      indices.push_back(FT_RESTART_INDEX);
+    }
+  }
+  if (base != vertices.size())
+    throw std::runtime_error(fmt::format("renderVertices: decisions describe {} vertices, stream has {}", base,
+                                         vertices.size()));
+  GLuint vbo = makeBuffer(vertices.size_bytes(), vertices.data());
+  GLuint ibo = makeBuffer(indices.size() * sizeof(uint32_t), indices.data());
+  RgbaImage img = renderWith(width, height, style, stripDrawProgram_, [&] {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vbo);
+    glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    glDrawElements(GL_LINE_STRIP, static_cast<GLsizei>(indices.size()), GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  });
+  glDeleteBuffers(1, &vbo);
+  glDeleteBuffers(1, &ibo);
+  return img;
+}
+
+}  // namespace ft

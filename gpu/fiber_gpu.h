@@ -1,0 +1,101 @@
+// fiber_gpu.h — the GPU side of procedural fiber generation: both paths of
+// issue "spine" (000_cc9bd0fbd0e08a03.txt §3, §5), fed only by the yarn
+// control points with their length coordinates, the curve/segment tables and
+// the fiber-coordinate table.
+//   * tessellation: instanced isoline patches, TCS decides LoD/culling, TES
+//     evaluates fibers, GS expands lines to camera-facing strips;
+//   * compute: decide → scan → generate into a vertex + index buffer and an
+//     indirect draw command; LoD and culling decided on the GPU.
+// Both can hand their vertices back (transform feedback / buffer read-back).
+#pragma once
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/fiber_vertex.h"
+#include "common/view_params.h"
+#include "common/yarn_buffers.h"
+#include "common/yarn_params.h"
+#include "scene/fiber_input.h"
+
+namespace ft {
+
+struct RgbaImage {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> pixels;  // RGBA8, row 0 at the top
+};
+
+struct RenderStyle {
+  glm::vec3 baseColor{0.85f, 0.78f, 0.62f};
+  glm::vec3 background{0.08f, 0.08f, 0.1f};
+  glm::vec3 lightDir{0.3f, 0.8f, 0.5f};
+};
+
+class FiberGpu {
+ public:
+  // `defines` are injected into every shader (fault injection uses them).
+  // `maxTessGenLevel` is the driver's GL_MAX_TESS_GEN_LEVEL.
+  FiberGpu(std::vector<std::string> defines, int maxTessGenLevel, int maxWorkGroupCountY,
+           int maxWorkGroupCountZ);
+  ~FiberGpu();
+  FiberGpu(const FiberGpu&) = delete;
+  FiberGpu& operator=(const FiberGpu&) = delete;
+
+  // Uploads the procedural input and computes the knot frames on the GPU.
+  void setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fiberTable);
+  void setParams(const YarnParams& params, const ViewParams& view);
+  // Segments to generate, in order; empty = every segment.
+  void setSegmentList(std::span<const uint32_t> segments);
+  size_t segmentListSize() const { return listCount_; }
+  size_t inputBytes() const { return inputBytes_; }
+
+  std::vector<FrameNormal> readFrames() const;
+
+  // Compute path. generate() only dispatches; the read-backs synchronize.
+  void generateCompute();
+  std::vector<SegmentDecision> readDecisions() const;
+  std::vector<FiberVertex> readComputeVertices() const;
+  DrawElementsCommand readDrawCommand() const;
+
+  // Tessellation path, captured with transform feedback and rasterizer
+  // discard: two FiberVertex per isoline segment, in the driver's order.
+  // Returns the number of line segments written.
+  size_t captureTessellation();
+  std::vector<FiberVertex> readTessellationLines() const;
+  // Upper bound of line segments a tessellation capture can write (buffer size).
+  size_t tessellationCapacity() const;
+
+  // Images: the compute path's own buffers, the tessellation path, or an
+  // arbitrary vertex stream in canonical strip order (e.g. the CPU's).
+  RgbaImage renderCompute(int width, int height, const RenderStyle& style);
+  RgbaImage renderTessellation(int width, int height, const RenderStyle& style);
+  RgbaImage renderVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions,
+                           int width, int height, const RenderStyle& style);
+
+ private:
+  void ensureComputeCapacity();
+  void bindCommon() const;
+  template <class Draw>
+  RgbaImage renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw);
+
+  std::vector<std::string> defines_;
+  int linesPerPatch_ = 64;
+  int maxGroupsY_ = 65535;
+  int maxGroupsZ_ = 65535;
+  GLuint framesProgram_ = 0, decideProgram_ = 0, scanProgram_ = 0, generateProgram_ = 0;
+  GLuint tessCaptureProgram_ = 0, tessDrawProgram_ = 0, stripDrawProgram_ = 0;
+  GLuint vao_ = 0;
+  GLuint captureFbo_ = 0;  // attachment-less: surfaceless contexts have no default framebuffer
+  GLuint yarnUbo_ = 0, viewUbo_ = 0;
+  GLuint points_ = 0, curves_ = 0, segments_ = 0, frames_ = 0, table_ = 0, list_ = 0;
+  GLuint decisions_ = 0, offsets_ = 0, vertices_ = 0, indices_ = 0, draw_ = 0, xfb_ = 0;
+  size_t curveCount_ = 0, segmentCount_ = 0, knotCount_ = 0, listCount_ = 0, inputBytes_ = 0;
+  size_t vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;
+  YarnParams params_{};
+};
+
+}  // namespace ft

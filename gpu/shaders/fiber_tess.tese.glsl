@@ -1,0 +1,46 @@
+// Tessellation path, evaluation stage: one isoline per fiber, one vertex per
+// subdivision point; the same ftFiberVertex() as the CPU and compute paths.
+#include "shaders/fiber_resources.glsl"
+
+layout(isolines, equal_spacing) in;
+
+layout(location = 0) patch in vec4 pB[4];
+layout(location = 4) patch in vec4 pN[2];
+layout(location = 6) patch in vec4 pLength;
+layout(location = 7) patch in uvec4 pIds;
+layout(location = 8) patch in vec4 pDecision;
+layout(location = 9) patch in uvec4 pDecisionU;
+
+// Captured by transform feedback for the harness; also feeds the strip GS.
+layout(location = 0) out vec4 fiberPosition;     // xyz, w = half-width
+layout(location = 1) flat out uvec4 fiberId;
+
+void main() {
+  YarnSegment seg;
+  seg.b0 = pB[0]; seg.b1 = pB[1]; seg.b2 = pB[2]; seg.b3 = pB[3];
+  seg.n0 = pN[0]; seg.n1 = pN[1];
+  seg.s0 = pLength.x; seg.s1 = pLength.y;
+  SegmentDecision d;
+  d.lambda = pDecision.x;
+  d.coreHalfWidth = pDecision.y;
+  d.regularCount = pDecisionU.x;
+  d.subdivisions = pDecisionU.y;
+  d.culled = pDecisionU.z;
+  d.vertexCount = pDecisionU.w;
+  d.pad0 = 0u;
+  d.pad1 = 0u;
+
+  // Line k of n sits at y = k/n; vertex j of S at x = j/S. Round, then
+  // recompute t from the integers so t is bit-identical to the CPU's.
+  uint line = uint(round(gl_TessCoord.y * gl_TessLevelOuter[0]));
+  uint vertex = uint(round(gl_TessCoord.x * float(d.subdivisions)));
+  uint strip = pIds.z + line;
+  uint ply = strip / pIds.w;
+  uint slot = strip % pIds.w;
+  uint curve = pIds.x;
+  TwistRates rates = ftTwistRates(yarn, curves[curve]);
+  FiberVertex fv = ftFiberVertex(yarn, rates, seg, d, curve, pIds.y, ply, slot, slotFiberCoord(slot), vertex);
+  fiberPosition = fv.position;
+  fiberId = fv.id;
+  gl_Position = view.viewProj * vec4(fv.position.xyz, 1.0);
+}

@@ -1,0 +1,10 @@
+// Tessellation path: no vertex attributes. Each patch has 4 vertices (the
+// Catmull-Rom/Bézier control points are fetched from the buffers by the
+// control shader); this stage only says which listed segment and which
+// instance (block of fiber slots) the patch is.
+layout(location = 0) out flat uvec2 vListInstance;
+
+void main() {
+  vListInstance = uvec2(uint(gl_VertexID) / 4u, uint(gl_InstanceID));
+  gl_Position = vec4(0.0);
+}

@@ -1,0 +1,41 @@
+// layout_probe.comp.glsl — declares one block per shared struct so that
+// tests/shared_layout_test.cpp can compare GL's offsets and strides with the C++
+// side. Every block is used (so it is active): element 0 of each storage buffer
+// is copied to element 1, and the two uniform blocks are copied into the probe
+// buffer, which also checks the bytes end to end.
+#include "common/constants.h"
+#include "common/yarn_params.h"
+#include "common/view_params.h"
+#include "common/yarn_buffers.h"
+#include "common/fiber_vertex.h"
+
+layout(local_size_x = 1) in;
+
+layout(std140, binding = FT_UBO_YARN_PARAMS) uniform YarnBlock { YarnParams yarn; };
+layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
+
+layout(std430, binding = FT_SSBO_CONTROL_POINTS) buffer ControlPointBuf { ControlPoint data[]; } controlPoints;
+layout(std430, binding = FT_SSBO_CURVES) buffer CurveInfoBuf { CurveInfo data[]; } curves;
+layout(std430, binding = FT_SSBO_SEGMENTS) buffer SegmentRefBuf { SegmentRef data[]; } segments;
+layout(std430, binding = FT_SSBO_FRAMES) buffer FrameNormalBuf { FrameNormal data[]; } frames;
+layout(std430, binding = FT_SSBO_FIBER_TABLE) buffer FiberCoordBuf { FiberCoord data[]; } fiberTable;
+layout(std430, binding = FT_SSBO_VERTICES) buffer FiberVertexBuf { FiberVertex data[]; } vertices;
+layout(std430, binding = FT_SSBO_DECISIONS) buffer SegmentDecisionBuf { SegmentDecision data[]; } decisions;
+layout(std430, binding = FT_SSBO_DRAW_COMMAND) buffer DrawElementsCommandBuf { DrawElementsCommand data[]; } commands;
+layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
+  YarnParams yarnCopy;
+  ViewParams viewCopy;
+} paramsCopy;
+
+void main() {
+  controlPoints.data[1] = controlPoints.data[0];
+  curves.data[1] = curves.data[0];
+  segments.data[1] = segments.data[0];
+  frames.data[1] = frames.data[0];
+  fiberTable.data[1] = fiberTable.data[0];
+  vertices.data[1] = vertices.data[0];
+  decisions.data[1] = decisions.data[0];
+  commands.data[1] = commands.data[0];
+  paramsCopy.yarnCopy = yarn;
+  paramsCopy.viewCopy = view;
+}

@@ -1,0 +1,103 @@
+#include "reference/fiber_reference.h"
+
+#include <numeric>
+
+#include <tbb/parallel_for.h>
+
+#include "common/fiber_generation.h"
+#include "common/lod.h"
+#include "common/yarn_frame.h"
+
+namespace ft {
+
+namespace {
+
+YarnSegment fetchSegment(const YarnBuffers& yarn, const CurveInfo& c, uint32_t local) {
+  SegmentIndices idx = ftSegmentIndices(c, local);
+  const auto& p = yarn.points;
+  return ftMakeSegment(c, local, idx, p[idx.i0].positionLength, p[idx.i1].positionLength,
+                       p[idx.i2].positionLength, p[idx.i3].positionLength);
+}
+
+}  // namespace
+
+std::vector<FrameNormal> computeKnotFramesCpu(const YarnBuffers& yarn) {
+  std::vector<FrameNormal> frames(yarn.knotCount, FrameNormal{glm::vec4(0.0f)});
+  tbb::parallel_for(size_t(0), yarn.curves.size(), [&](size_t ci) {
+    // Mirrors gpu/shaders/yarn_frames.comp.glsl line by line.
+    const CurveInfo c = yarn.curves[ci];
+    const uint32_t segments = ftCurveSegmentCount(c);
+    Knot k0 = ftSegmentStartKnot(fetchSegment(yarn, c, 0));
+    vec3 r = ftPerpendicular(k0.tangent);
+    frames[c.frameBase].normal = vec4(r, 0.0f);
+    Knot prev = k0;
+    for (uint32_t k = 0; k < segments; ++k) {
+      Knot next = k + 1 < segments ? ftSegmentStartKnot(fetchSegment(yarn, c, k + 1))
+                                   : ftLastKnot(c, k0, fetchSegment(yarn, c, k));
+      r = ftRmfStep(prev.position, prev.tangent, r, next.position, next.tangent);
+      if (k + 1 < ftCurveKnotCount(c)) frames[c.frameBase + k + 1].normal = vec4(r, 0.0f);
+      prev = next;
+    }
+    if (c.closed != 0u) {
+      // r is now the start normal carried once around the loop.
+      const float holonomy = ftSignedAngle(r, vec3(frames[c.frameBase].normal), k0.tangent);
+      for (uint32_t k = 1; k < segments; ++k) {
+        Knot kk = ftSegmentStartKnot(fetchSegment(yarn, c, k));
+        frames[c.frameBase + k].normal =
+            vec4(ftCloseFrame(vec3(frames[c.frameBase + k].normal), kk.tangent, holonomy, kk.s, c.totalLength), 0.0f);
+      }
+    }
+  });
+  return frames;
+}
+
+YarnSegment loadSegmentCpu(const YarnBuffers& yarn, std::span<const FrameNormal> frames, uint32_t segment) {
+  const SegmentRef ref = yarn.segments[segment];
+  const CurveInfo& c = yarn.curves[ref.curve];
+  YarnSegment seg = fetchSegment(yarn, c, ref.local);
+  seg.n0 = frames[ftKnotFrameIndex(c, ref.local)].normal;
+  seg.n1 = frames[ftKnotFrameIndex(c, ref.local + 1)].normal;
+  return seg;
+}
+
+FiberGeometry generateFibersCpu(const FiberInput& input, std::span<const FrameNormal> frames,
+                                std::span<const uint32_t> segments) {
+  const YarnBuffers& yarn = *input.yarn;
+  const std::vector<FiberCoord>& table = *input.fiberTable;
+  const YarnParams& p = input.params;
+  FiberGeometry out;
+  if (segments.empty()) {
+    out.segments.resize(yarn.segments.size());
+    std::iota(out.segments.begin(), out.segments.end(), 0u);
+  } else {
+    out.segments.assign(segments.begin(), segments.end());
+  }
+  const size_t count = out.segments.size();
+  out.decisions.resize(count);
+  tbb::parallel_for(size_t(0), count, [&](size_t i) {
+    out.decisions[i] = ftDecideSegment(p, input.view, loadSegmentCpu(yarn, frames, out.segments[i]));
+  });
+  std::vector<size_t> offsets(count + 1, 0);
+  for (size_t i = 0; i < count; ++i) offsets[i + 1] = offsets[i] + out.decisions[i].vertexCount;
+  out.vertices.resize(offsets[count]);
+
+  tbb::parallel_for(size_t(0), count, [&](size_t i) {
+    const SegmentDecision d = out.decisions[i];
+    if (d.vertexCount == 0) return;
+    const uint32_t segment = out.segments[i];
+    const SegmentRef ref = yarn.segments[segment];
+    const YarnSegment seg = loadSegmentCpu(yarn, frames, segment);
+    const TwistRates rates = ftTwistRates(p, yarn.curves[ref.curve]);
+    const FiberCoord none{0.0f, 0.0f};
+    for (uint32_t ply = 0; ply < p.plyCount; ++ply)
+      for (uint32_t slot = 0; slot < ftSlotsPerPly(d); ++slot) {
+        const FiberCoord fc = slot == 0 ? none : table[ftSlotFiber(p, slot)];
+        for (uint32_t v = 0; v <= d.subdivisions; ++v)
+          out.vertices[offsets[i] + ftVertexOffset(d, ply, slot, v)] =
+              ftFiberVertex(p, rates, seg, d, ref.curve, segment, ply, slot, fc, v);
+      }
+  });
+  return out;
+}
+
+}  // namespace ft

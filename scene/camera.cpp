@@ -1,0 +1,92 @@
+#include "scene/camera.h"
+
+#include <cmath>
+#include <limits>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace ft {
+
+glm::mat4 Camera::view() const { return glm::lookAt(eye, target, up); }
+
+glm::mat4 Camera::projection() const {
+  return glm::perspective(glm::radians(fovyDegrees), static_cast<float>(width) / static_cast<float>(height), zNear,
+                          zFar);
+}
+
+float Camera::pixelsPerUnitAtDepth1() const {
+  return static_cast<float>(height) / (2.0f * std::tan(glm::radians(fovyDegrees) * 0.5f));
+}
+
+ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled) {
+  ViewParams v{};
+  v.viewProj = camera.projection() * camera.view();
+  // Gribb–Hartmann plane extraction: rows of viewProj combined; normalized so
+  // plane distances are in world units (the culling margin is in world units).
+  const glm::mat4 m = glm::transpose(v.viewProj);  // m[i] = row i
+  const glm::vec4 planes[6] = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]};
+  for (int i = 0; i < 6; ++i) v.frustumPlanes[i] = planes[i] / glm::length(glm::vec3(planes[i]));
+  v.cameraPos = glm::vec4(camera.eye, camera.pixelsPerUnitAtDepth1());
+  v.lodThresholdPx = lodThresholdPx;
+  v.lodEnabled = lodEnabled ? 1u : 0u;
+  v.cullEnabled = cullEnabled ? 1u : 0u;
+  return v;
+}
+
+Camera frameModel(const YarnModel& model, glm::vec3 viewDir, int width, int height) {
+  const Bounds b = modelBounds(model);
+  const glm::vec3 center = 0.5f * (b.lo + b.hi);
+  const float radius = std::max(0.5f * glm::length(b.hi - b.lo), 1e-3f);
+  Camera c;
+  c.width = width;
+  c.height = height;
+  const float distance = radius / std::sin(glm::radians(c.fovyDegrees) * 0.5f);
+  c.target = center;
+  c.eye = center + glm::normalize(viewDir) * distance;
+  if (std::abs(glm::dot(glm::normalize(viewDir), c.up)) > 0.99f) c.up = glm::vec3(0.0f, 0.0f, 1.0f);
+  c.zNear = std::max(distance - radius, distance * 1e-3f);
+  c.zFar = distance + radius;
+  return c;
+}
+
+const char* lodDistanceName(LodDistance d) {
+  switch (d) {
+    case LodDistance::Near: return "near";
+    case LodDistance::Mid: return "mid";
+    case LodDistance::Far: return "far";
+  }
+  return "?";
+}
+
+Camera lodCamera(const YarnModel& model, const YarnParams& params, LodDistance distance, float lodThresholdPx,
+                 int width, int height) {
+  const Bounds b = modelBounds(model);
+  const glm::vec3 center = 0.5f * (b.lo + b.hi);
+  glm::vec3 target = center;
+  float best = std::numeric_limits<float>::max();
+  for (const YarnCurve& c : model.curves)
+    for (const glm::vec3& p : c.points)
+      if (float d = glm::distance(p, center); d < best) best = d, target = p;
+
+  Camera c;
+  c.width = width;
+  c.height = height;
+  const float pixels = c.pixelsPerUnitAtDepth1();
+  const float fiberWidth = 2.0f * params.fiberRadius;
+  const float plyWidth = 2.0f * params.ellipseB * params.rhoMax;
+  float d = 1.0f;
+  switch (distance) {
+    case LodDistance::Near: d = fiberWidth * pixels / (1.5f * lodThresholdPx); break;
+    case LodDistance::Mid: d = std::sqrt(fiberWidth * plyWidth) * pixels / lodThresholdPx; break;
+    case LodDistance::Far: d = plyWidth * pixels / (0.5f * lodThresholdPx); break;
+  }
+  const glm::vec3 dir = glm::normalize(glm::vec3(0.3f, 0.5f, 1.0f));
+  c.target = target;
+  c.eye = target + dir * d;
+  const float radius = 0.5f * glm::length(b.hi - b.lo);
+  c.zNear = d * 0.01f;
+  c.zFar = d + 2.0f * radius + 1.0f;
+  return c;
+}
+
+}  // namespace ft

@@ -1,0 +1,35 @@
+// yarn_fibers.h — turns a fitted yarn preset into what the generators read:
+// the YarnParams block and the fiber-coordinate table sorted by R_i
+// (000_cc9bd0fbd0e08a03.txt §5).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "common/yarn_buffers.h"
+#include "common/yarn_params.h"
+#include "scene/yarn_preset.h"
+
+namespace ft {
+
+struct FiberOptions {
+  uint32_t regularFibersPerPly = 20;  // outermost fibers drawn individually; the rest form the core (§3.2)
+  uint32_t maxSubdivisions = 4;       // line segments per fiber per yarn segment at full detail
+  float fiberRadius = 0.0008f;        // drawn fiber half-width, world units (8 µm if units are cm)
+  uint32_t seed = 1;
+};
+
+// Rejection-samples `preset.fiberNum` fiber positions in the unit ply disk with
+// the density p(R) of reference-data §2, using the shared counter-based RNG
+// (common/rng.h) so the table is the same on every machine; sorted by R then θ.
+std::vector<FiberCoord> makeFiberTable(const YarnPreset& preset, uint32_t seed);
+
+// Fills YarnParams. Loop and hair fibers: the preset gives densities per unit
+// length of ply; each regular fiber has preset.sI/alpha migration periods per
+// unit length, so a period is a loop with probability 1 - exp(-λ_loop),
+// λ_loop = loop_density·alpha / (regular fibers·s_i) (Poisson: at least one
+// loop in the period), likewise hair; both are scaled down together if they
+// would sum past 1. Throws InputError for options out of range.
+YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord>& table,
+                          const FiberOptions& options);
+
+}  // namespace ft

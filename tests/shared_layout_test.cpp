@@ -1,0 +1,279 @@
+// Shared C++/GLSL layouts (reference-data §6): for every struct in the common/
+// headers that crosses the API, GL's view of the compiled probe program
+// (gpu/shaders/layout_probe.comp.glsl) must match C++ offsetof/sizeof member by
+// member, every member must be listed here (GL's active-member count), and a
+// round trip through the GPU must preserve the bytes.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "common/constants.h"
+#include "common/fiber_vertex.h"
+#include "common/view_params.h"
+#include "common/yarn_buffers.h"
+#include "common/yarn_params.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_objects.h"
+#include "gpu/shader_library.h"
+
+namespace ft {
+namespace {
+
+// Every member, padding included, in declaration order. A member missing here
+// fails MemberCountMatches; a wrong offset or size fails OffsetsMatch.
+#define FT_YARN_PARAMS_MEMBERS(X)                                                                       \
+  X(YarnParams, plyCount) X(YarnParams, fiberCount) X(YarnParams, regularFibers)                        \
+  X(YarnParams, maxSubdivisions) X(YarnParams, plyRadius) X(YarnParams, ellipseN) X(YarnParams, ellipseB) \
+  X(YarnParams, fiberRadius) X(YarnParams, plyTurnsPerLength) X(YarnParams, fiberTurnsPerLength)        \
+  X(YarnParams, plyTwistSign) X(YarnParams, fiberTwistSign) X(YarnParams, migrationS)                   \
+  X(YarnParams, rhoMin) X(YarnParams, rhoMax) X(YarnParams, coreRadius) X(YarnParams, loopProbability)  \
+  X(YarnParams, hairProbability) X(YarnParams, loopR1Mu) X(YarnParams, loopR1Sigma)                     \
+  X(YarnParams, hairZeMu) X(YarnParams, hairZeSigma) X(YarnParams, hairR0Mu) X(YarnParams, hairR0Sigma) \
+  X(YarnParams, hairReMu) X(YarnParams, hairReSigma) X(YarnParams, hairPeMu) X(YarnParams, hairPeSigma) \
+  X(YarnParams, boundRadius) X(YarnParams, seed) X(YarnParams, pad0) X(YarnParams, pad1)
+#define FT_VIEW_PARAMS_MEMBERS(X)                                                                   \
+  X(ViewParams, viewProj) X(ViewParams, frustumPlanes) X(ViewParams, cameraPos)                     \
+  X(ViewParams, lodThresholdPx) X(ViewParams, lodEnabled) X(ViewParams, cullEnabled) X(ViewParams, pad0)
+#define FT_CONTROL_POINT_MEMBERS(X) X(ControlPoint, positionLength)
+#define FT_CURVE_INFO_MEMBERS(X)                                                                   \
+  X(CurveInfo, firstPoint) X(CurveInfo, pointCount) X(CurveInfo, closed) X(CurveInfo, firstSegment) \
+  X(CurveInfo, totalLength) X(CurveInfo, basis) X(CurveInfo, frameBase) X(CurveInfo, pad0)
+#define FT_SEGMENT_REF_MEMBERS(X) X(SegmentRef, curve) X(SegmentRef, local)
+#define FT_FRAME_NORMAL_MEMBERS(X) X(FrameNormal, normal)
+#define FT_FIBER_COORD_MEMBERS(X) X(FiberCoord, radius) X(FiberCoord, thetaTurns)
+#define FT_FIBER_VERTEX_MEMBERS(X) X(FiberVertex, position) X(FiberVertex, id)
+#define FT_SEGMENT_DECISION_MEMBERS(X)                                                                  \
+  X(SegmentDecision, lambda) X(SegmentDecision, coreHalfWidth) X(SegmentDecision, regularCount)          \
+  X(SegmentDecision, subdivisions) X(SegmentDecision, culled) X(SegmentDecision, vertexCount)            \
+  X(SegmentDecision, pad0) X(SegmentDecision, pad1)
+#define FT_DRAW_ELEMENTS_COMMAND_MEMBERS(X)                                                               \
+  X(DrawElementsCommand, count) X(DrawElementsCommand, instanceCount) X(DrawElementsCommand, firstIndex) \
+  X(DrawElementsCommand, baseVertex) X(DrawElementsCommand, baseInstance) X(DrawElementsCommand, vertexTotal) \
+  X(DrawElementsCommand, pad0) X(DrawElementsCommand, pad1)
+
+struct Member {
+  const char* name;
+  std::size_t offset;
+  std::size_t size;
+};
+#define FT_MEMBER(T, m) Member{#m, offsetof(T, m), sizeof(T::m)},
+
+// How the probe shader exposes one struct.
+struct StructCase {
+  const char* cppName;
+  std::size_t size;
+  std::vector<Member> members;
+  bool uniform;          // std140 uniform block with one struct member, else std430 SSBO `{ T data[]; }`
+  const char* block;     // block name
+  std::string prefix;    // resource-name prefix of the members
+  GLuint binding;
+};
+
+std::vector<StructCase> structCases() {
+  return {
+      {"YarnParams", sizeof(YarnParams), {FT_YARN_PARAMS_MEMBERS(FT_MEMBER)}, true, "YarnBlock", "yarn.",
+       FT_UBO_YARN_PARAMS},
+      {"ViewParams", sizeof(ViewParams), {FT_VIEW_PARAMS_MEMBERS(FT_MEMBER)}, true, "ViewBlock", "view.",
+       FT_UBO_VIEW_PARAMS},
+      {"ControlPoint", sizeof(ControlPoint), {FT_CONTROL_POINT_MEMBERS(FT_MEMBER)}, false, "ControlPointBuf",
+       "ControlPointBuf.data[0].", FT_SSBO_CONTROL_POINTS},
+      {"CurveInfo", sizeof(CurveInfo), {FT_CURVE_INFO_MEMBERS(FT_MEMBER)}, false, "CurveInfoBuf",
+       "CurveInfoBuf.data[0].", FT_SSBO_CURVES},
+      {"SegmentRef", sizeof(SegmentRef), {FT_SEGMENT_REF_MEMBERS(FT_MEMBER)}, false, "SegmentRefBuf",
+       "SegmentRefBuf.data[0].", FT_SSBO_SEGMENTS},
+      {"FrameNormal", sizeof(FrameNormal), {FT_FRAME_NORMAL_MEMBERS(FT_MEMBER)}, false, "FrameNormalBuf",
+       "FrameNormalBuf.data[0].", FT_SSBO_FRAMES},
+      {"FiberCoord", sizeof(FiberCoord), {FT_FIBER_COORD_MEMBERS(FT_MEMBER)}, false, "FiberCoordBuf",
+       "FiberCoordBuf.data[0].", FT_SSBO_FIBER_TABLE},
+      {"FiberVertex", sizeof(FiberVertex), {FT_FIBER_VERTEX_MEMBERS(FT_MEMBER)}, false, "FiberVertexBuf",
+       "FiberVertexBuf.data[0].", FT_SSBO_VERTICES},
+      {"SegmentDecision", sizeof(SegmentDecision), {FT_SEGMENT_DECISION_MEMBERS(FT_MEMBER)}, false,
+       "SegmentDecisionBuf", "SegmentDecisionBuf.data[0].", FT_SSBO_DECISIONS},
+      {"DrawElementsCommand", sizeof(DrawElementsCommand), {FT_DRAW_ELEMENTS_COMMAND_MEMBERS(FT_MEMBER)}, false,
+       "DrawElementsCommandBuf", "DrawElementsCommandBuf.data[0].", FT_SSBO_DRAW_COMMAND},
+  };
+}
+
+// Bytes of one GL type as a C++ member holding it (glm types are tightly packed).
+std::size_t glTypeSize(GLint type) {
+  switch (type) {
+    case GL_FLOAT: case GL_INT: case GL_UNSIGNED_INT: case GL_BOOL: return 4;
+    case GL_FLOAT_VEC2: case GL_INT_VEC2: case GL_UNSIGNED_INT_VEC2: return 8;
+    case GL_FLOAT_VEC3: case GL_INT_VEC3: case GL_UNSIGNED_INT_VEC3: return 12;
+    case GL_FLOAT_VEC4: case GL_INT_VEC4: case GL_UNSIGNED_INT_VEC4: return 16;
+    case GL_FLOAT_MAT4: return 64;
+    default: return 0;
+  }
+}
+
+class SharedLayoutTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ctx_ = GlContext::create(glBackendFromEnv());
+    program_ = Program(buildProgram({"shaders/layout_probe.comp.glsl"}, {}));
+  }
+  void TearDown() override {
+    program_.reset();
+    ctx_.reset();
+  }
+  GLenum memberInterface(const StructCase& s) const { return s.uniform ? GL_UNIFORM : GL_BUFFER_VARIABLE; }
+  GLenum blockInterface(const StructCase& s) const {
+    return s.uniform ? GL_UNIFORM_BLOCK : GL_SHADER_STORAGE_BLOCK;
+  }
+  GLint property(GLenum interface, GLuint index, GLenum prop) const {
+    GLint value = -1;
+    glGetProgramResourceiv(program_.id(), interface, index, 1, &prop, 1, nullptr, &value);
+    return value;
+  }
+  // Sets *name to GL's canonical resource name: "member[0]" for arrays (lookups
+  // accept the bare name, and Mesa even matches "[0]" on non-arrays).
+  GLuint memberIndex(const StructCase& s, const Member& m, std::string* name) const {
+    *name = s.prefix + m.name;
+    GLuint index = glGetProgramResourceIndex(program_.id(), memberInterface(s), name->c_str());
+    if (index != GL_INVALID_INDEX) {
+      char buf[256] = {};
+      glGetProgramResourceName(program_.id(), memberInterface(s), index, sizeof buf, nullptr, buf);
+      *name = buf;
+    }
+    return index;
+  }
+
+  std::unique_ptr<GlContext> ctx_;
+  Program program_;
+};
+
+TEST_F(SharedLayoutTest, MembersCoverTheStructWithoutImplicitPadding) {
+  // Padding must be named (reference-data §6); then member sizes add up to sizeof.
+  for (const StructCase& s : structCases()) {
+    std::size_t sum = 0, end = 0;
+    for (const Member& m : s.members) {
+      EXPECT_EQ(m.offset, end) << s.cppName << "." << m.name << ": unnamed padding or list out of order";
+      end = m.offset + m.size;
+      sum += m.size;
+    }
+    EXPECT_EQ(sum, s.size) << s.cppName;
+  }
+}
+
+TEST_F(SharedLayoutTest, MemberCountMatches) {
+  for (const StructCase& s : structCases()) {
+    GLuint block = glGetProgramResourceIndex(program_.id(), blockInterface(s), s.block);
+    ASSERT_NE(block, GL_INVALID_INDEX) << s.block << " is not active in the probe";
+    EXPECT_EQ(property(blockInterface(s), block, GL_NUM_ACTIVE_VARIABLES), static_cast<GLint>(s.members.size()))
+        << s.cppName << ": GL sees a different member count than the C++ list";
+    EXPECT_EQ(property(blockInterface(s), block, GL_BUFFER_BINDING), static_cast<GLint>(s.binding)) << s.block;
+    if (s.uniform) {
+      EXPECT_EQ(property(blockInterface(s), block, GL_BUFFER_DATA_SIZE), static_cast<GLint>(s.size)) << s.cppName;
+    }
+  }
+  glCheck("MemberCountMatches");
+}
+
+TEST_F(SharedLayoutTest, OffsetsMatch) {
+  for (const StructCase& s : structCases()) {
+    GLuint block = glGetProgramResourceIndex(program_.id(), blockInterface(s), s.block);
+    for (const Member& m : s.members) {
+      std::string name;
+      GLuint index = memberIndex(s, m, &name);
+      ASSERT_NE(index, GL_INVALID_INDEX) << s.cppName << "." << m.name << ": no GL resource " << name;
+      GLenum iface = memberInterface(s);
+      const std::string where = std::string(s.cppName) + "." + m.name + " (" + name + ")";
+      EXPECT_EQ(property(iface, index, GL_BLOCK_INDEX), static_cast<GLint>(block)) << where;
+      EXPECT_EQ(property(iface, index, GL_OFFSET), static_cast<GLint>(m.offset)) << where;
+      GLint arraySize = property(iface, index, GL_ARRAY_SIZE);
+      GLint type = property(iface, index, GL_TYPE);
+      if (name.back() == ']') {
+        // An array member: the whole array must occupy exactly the C++ member.
+        EXPECT_EQ(static_cast<std::size_t>(arraySize * property(iface, index, GL_ARRAY_STRIDE)), m.size) << where;
+        EXPECT_EQ(static_cast<std::size_t>(arraySize) * glTypeSize(type), m.size) << where;
+      } else {
+        EXPECT_EQ(glTypeSize(type), m.size) << where << " GL type 0x" << std::hex << type;
+      }
+      if (type == GL_FLOAT_MAT4) {
+        EXPECT_EQ(property(iface, index, GL_MATRIX_STRIDE), 16) << where;
+        EXPECT_EQ(property(iface, index, GL_IS_ROW_MAJOR), 0) << where;  // GLM is column-major
+      }
+      if (!s.uniform) {
+        EXPECT_EQ(property(iface, index, GL_TOP_LEVEL_ARRAY_STRIDE), static_cast<GLint>(s.size)) << where;
+      }
+    }
+  }
+  glCheck("OffsetsMatch");
+}
+
+// Fills every 32-bit word with a distinct normal float (valid as float and uint,
+// so no NaN canonicalization can alter the bytes on the way).
+template <class T>
+T pattern(float base) {
+  static_assert(sizeof(T) % 4 == 0);
+  T value;
+  float words[sizeof(T) / 4];
+  for (std::size_t i = 0; i < sizeof(T) / 4; ++i) words[i] = base + static_cast<float>(i) * 0.25f;
+  std::memcpy(&value, words, sizeof(T));
+  return value;
+}
+
+template <class T>
+void expectSameBytes(const T& a, const T& b, const char* what) {
+  EXPECT_EQ(std::memcmp(&a, &b, sizeof(T)), 0) << what << " changed on the way through the GPU";
+}
+
+TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
+  YarnParams yarn = pattern<YarnParams>(1.0f);
+  ViewParams view = pattern<ViewParams>(100.0f);
+  Buffer yarnUbo = Buffer::create(sizeof yarn, &yarn);
+  Buffer viewUbo = Buffer::create(sizeof view, &view);
+  yarnUbo.bindBase(GL_UNIFORM_BUFFER, FT_UBO_YARN_PARAMS);
+  viewUbo.bindBase(GL_UNIFORM_BUFFER, FT_UBO_VIEW_PARAMS);
+  Buffer copy = Buffer::create(sizeof yarn + sizeof view);
+  copy.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_LAYOUT_PROBE);
+
+  // Two elements per storage buffer: the probe copies element 0 over element 1.
+  std::vector<Buffer> ssbos;
+  auto add = [&](auto element, GLuint binding) {
+    decltype(element) two[2] = {element, {}};
+    std::memset(&two[1], 0, sizeof two[1]);
+    ssbos.push_back(Buffer::create(sizeof two, two));
+    ssbos.back().bindBase(GL_SHADER_STORAGE_BUFFER, binding);
+  };
+  add(pattern<ControlPoint>(200.0f), FT_SSBO_CONTROL_POINTS);
+  add(pattern<CurveInfo>(300.0f), FT_SSBO_CURVES);
+  add(pattern<SegmentRef>(400.0f), FT_SSBO_SEGMENTS);
+  add(pattern<FrameNormal>(500.0f), FT_SSBO_FRAMES);
+  add(pattern<FiberCoord>(600.0f), FT_SSBO_FIBER_TABLE);
+  add(pattern<FiberVertex>(700.0f), FT_SSBO_VERTICES);
+  add(pattern<SegmentDecision>(800.0f), FT_SSBO_DECISIONS);
+  add(pattern<DrawElementsCommand>(900.0f), FT_SSBO_DRAW_COMMAND);
+
+  glUseProgram(program_.id());
+  glDispatchCompute(1, 1, 1);
+  glCheck("layout probe dispatch");
+
+  auto check = [&](std::size_t k, auto element, const char* what) {
+    using T = decltype(element);
+    std::vector<T> out = readBuffer<T>(ssbos[k].id(), 2);
+    expectSameBytes(out[0], out[1], what);
+    expectSameBytes(element, out[1], what);
+  };
+  check(0, pattern<ControlPoint>(200.0f), "ControlPoint");
+  check(1, pattern<CurveInfo>(300.0f), "CurveInfo");
+  check(2, pattern<SegmentRef>(400.0f), "SegmentRef");
+  check(3, pattern<FrameNormal>(500.0f), "FrameNormal");
+  check(4, pattern<FiberCoord>(600.0f), "FiberCoord");
+  check(5, pattern<FiberVertex>(700.0f), "FiberVertex");
+  check(6, pattern<SegmentDecision>(800.0f), "SegmentDecision");
+  check(7, pattern<DrawElementsCommand>(900.0f), "DrawElementsCommand");
+
+  // std140 uniform → std430 storage copy: both layouts equal the C++ one for these structs.
+  std::vector<YarnParams> yarnBack = readBuffer<YarnParams>(copy.id(), 1);
+  std::vector<ViewParams> viewBack = readBuffer<ViewParams>(copy.id(), 1, sizeof(YarnParams));
+  expectSameBytes(yarn, yarnBack[0], "YarnParams (uniform block)");
+  expectSameBytes(view, viewBack[0], "ViewParams (uniform block)");
+}
+
+}  // namespace
+}  // namespace ft

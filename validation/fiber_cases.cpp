@@ -1,0 +1,358 @@
+// fiber_cases.cpp — cross-checks of procedural fiber generation
+// (000_cc9bd0fbd0e08a03.txt §2.2, §3.1–3.3, §5): CPU reference against the
+// tessellation and compute paths, for every yarn preset at three LoD
+// distances, plus the knot frames both sides build.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <numeric>
+#include <set>
+#include <unordered_map>
+
+#include "common/constants.h"
+#include "common/lod.h"
+#include "common/yarn_frame.h"
+#include "reference/fiber_reference.h"
+#include "scene/camera.h"
+#include "validation/harness.h"
+#include "validation/vertex_compare.h"
+
+namespace ft {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// ---- Tolerances, each with its reason ---------------------------------------
+
+// Positions: both sides run the same float operations; transcendental
+// functions (sin, cos, atan, log) and normalization may differ by a few ulps
+// on the GPU, which moves a fiber by ~1e-7 of the yarn radius. 5% of a
+// fiber's radius is invisible at any zoom that resolves the fiber; the cubic
+// evaluation at large coordinates adds up to 16 ulps of the largest
+// coordinate (a real GPU may contract to FMA where `precise` is absent).
+double positionTolerance(const YarnParams& p, double maxCoordinate) {
+  const double ulp = std::ldexp(1.0, std::ilogb(std::max(maxCoordinate, 1e-30)) - 23);
+  return 0.05 * p.fiberRadius + 16.0 * ulp;
+}
+const char* kPositionWhy = "5% of the fiber radius plus 16 float ulps of the largest coordinate";
+
+struct CpuRun {
+  FiberGeometry geometry;
+  double milliseconds = 0.0;
+};
+
+struct PresetSetup {
+  std::vector<FiberCoord> table;
+  YarnParams params{};
+};
+
+const PresetSetup& presetSetup(ValidationContext& ctx, const YarnPreset& preset) {
+  auto& slot = ctx.cache()["preset/" + preset.name];
+  if (!slot) {
+    auto s = std::make_shared<PresetSetup>();
+    s->table = makeFiberTable(preset, ctx.options().fiber.seed);
+    s->params = makeYarnParams(preset, s->table, ctx.options().fiber);
+    slot = s;
+  }
+  return *static_cast<PresetSetup*>(slot.get());
+}
+
+const std::vector<FrameNormal>& cpuFrames(ValidationContext& ctx) {
+  auto& slot = ctx.cache()["frames"];
+  if (!slot) slot = std::make_shared<std::vector<FrameNormal>>(computeKnotFramesCpu(ctx.buffers()));
+  return *static_cast<std::vector<FrameNormal>*>(slot.get());
+}
+
+// The tessellation path is ~100× slower than compute on llvmpipe
+// (reference-data §5): on big models its cases use a fixed subset — the
+// segments nearest the LoD target plus an even stride over the rest.
+std::vector<uint32_t> tessellationSubset(ValidationContext& ctx, const glm::vec3& target) {
+  const YarnBuffers& y = ctx.buffers();
+  const size_t n = y.segments.size(), budget = ctx.options().tessSegmentBudget;
+  if (n <= budget) return {};
+  std::vector<std::pair<float, uint32_t>> byDistance(n);
+  for (uint32_t s = 0; s < n; ++s) {
+    const CurveInfo& c = y.curves[y.segments[s].curve];
+    const glm::vec3 p = glm::vec3(y.points[c.firstPoint + std::min(y.segments[s].local, c.pointCount - 1)].positionLength);
+    byDistance[s] = {glm::distance(p, target), s};
+  }
+  const size_t nearest = budget * 3 / 4;
+  std::nth_element(byDistance.begin(), byDistance.begin() + nearest, byDistance.end());
+  std::set<uint32_t> chosen;
+  for (size_t i = 0; i < nearest; ++i) chosen.insert(byDistance[i].second);
+  const size_t stride = n / (budget - nearest);
+  for (size_t s = 0; s < n && chosen.size() < budget; s += stride) chosen.insert(static_cast<uint32_t>(s));
+  return {chosen.begin(), chosen.end()};
+}
+
+// A decision the two sides may legitimately round differently: the CPU's
+// continuous quantity lies within a relative 1e-4 of a discrete boundary.
+bool decisionAmbiguous(const YarnParams& p, const ViewParams& v, const YarnSegment& seg,
+                       const SegmentDecision& d) {
+  const double band = 1e-4;
+  auto nearInteger = [&](double x) { return std::abs(x - std::round(x)) <= band * std::max(1.0, x); };
+  // λ = 0 and λ = 1 come from the branches of eq. 4 (checked below), not from rounding.
+  const double scale = static_cast<double>(d.lambda) * d.lambda;
+  if (d.lambda > 0.0f && d.lambda < 1.0f &&
+      (nearInteger(scale * p.regularFibers) || nearInteger(scale * p.maxSubdivisions)))
+    return true;
+  const glm::vec2 w = ftScreenWidths(p, v, seg);
+  auto near = [&](double a, double b) { return std::abs(a - b) <= band * std::max(std::abs(a), std::abs(b)); };
+  if (near(v.lodThresholdPx, w.x) || near(v.lodThresholdPx, w.y)) return true;
+  for (int i = 0; i < 6; ++i) {  // the plane test of ftSegmentOutsideFrustum, in double
+    const glm::dvec4 pl(v.frustumPlanes[i]);
+    double farthest = -INFINITY;
+    for (const glm::vec4& b : {seg.b0, seg.b1, seg.b2, seg.b3})
+      farthest = std::max(farthest, glm::dot(glm::dvec3(pl), glm::dvec3(glm::vec3(b))) + pl.w);
+    if (std::abs(farthest + p.boundRadius) <= band * std::max(1.0, std::abs(farthest))) return true;
+  }
+  return false;
+}
+
+Metric exact(std::string name, double value, std::string why) {
+  return Metric{std::move(name), value, 0.0, "count", std::move(why), true};
+}
+
+struct FiberCaseSpec {
+  const YarnPreset* preset;
+  LodDistance lod;
+  bool tessellation;
+};
+
+CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const std::string& name) {
+  CaseResult r;
+  r.name = name;
+  r.group = "fiber";
+  r.path = spec.tessellation ? "tessellation" : "compute";
+  const HarnessOptions& o = ctx.options();
+  const PresetSetup& ps = presetSetup(ctx, *spec.preset);
+  const YarnParams& params = ps.params;
+  const Camera camera = lodCamera(ctx.model(), params, spec.lod, o.lodThresholdPx, o.lodWidth, o.lodHeight);
+  const ViewParams view = makeViewParams(camera, o.lodThresholdPx, true, true);
+  const std::vector<uint32_t> list = spec.tessellation ? tessellationSubset(ctx, camera.target) : std::vector<uint32_t>{};
+
+  // CPU reference (cached: both GPU paths compare with the same run when their lists agree).
+  const std::string cpuKey = fmt::format("cpu/{}/{}/{}", spec.preset->name, lodDistanceName(spec.lod), list.size());
+  auto& slot = ctx.cache()[cpuKey];
+  if (!slot) {
+    auto run = std::make_shared<CpuRun>();
+    FiberInput input{&ctx.buffers(), &ps.table, params, view};
+    const auto t0 = Clock::now();
+    run->geometry = generateFibersCpu(input, cpuFrames(ctx), list);
+    run->milliseconds = msSince(t0);
+    slot = run;
+  }
+  const CpuRun& cpu = *static_cast<CpuRun*>(slot.get());
+  r.cpuMilliseconds = cpu.milliseconds;
+
+  // GPU path.
+  FiberGpu& gpu = ctx.fiberGpu();
+  gpu.setModel(ctx.buffers(), ps.table);
+  gpu.setParams(params, view);
+  gpu.setSegmentList(list);
+  std::vector<FiberVertex> gpuVertices;
+  std::vector<SegmentDecision> gpuDecisions;
+  glFinish();
+  const auto t0 = Clock::now();
+  if (spec.tessellation) {
+    gpu.captureTessellation();
+    glFinish();
+    r.gpuMilliseconds = msSince(t0);
+    gpuVertices = gpu.readTessellationLines();
+  } else {
+    gpu.generateCompute();
+    glFinish();
+    r.gpuMilliseconds = msSince(t0);
+    gpuDecisions = gpu.readDecisions();
+    gpuVertices = gpu.readComputeVertices();
+  }
+  r.gpuTiming = "glFinish+steady_clock";
+
+  // Segments whose decision sits on a rounding boundary are left out of the
+  // exact comparisons (and counted).
+  std::unordered_map<uint32_t, size_t> listIndex;
+  std::set<uint32_t> ambiguous;
+  for (size_t i = 0; i < cpu.geometry.segments.size(); ++i) {
+    const uint32_t s = cpu.geometry.segments[i];
+    listIndex[s] = i;
+    if (decisionAmbiguous(params, view, loadSegmentCpu(ctx.buffers(), cpuFrames(ctx), s), cpu.geometry.decisions[i]))
+      ambiguous.insert(s);
+  }
+  auto keep = [&](const FiberVertex& v) { return !ambiguous.count(v.id.y); };
+  std::vector<FiberVertex> cpuKept, gpuKept;
+  std::copy_if(cpu.geometry.vertices.begin(), cpu.geometry.vertices.end(), std::back_inserter(cpuKept), keep);
+  std::copy_if(gpuVertices.begin(), gpuVertices.end(), std::back_inserter(gpuKept), keep);
+
+  // Decisions: read directly on the compute path, derived from the emitted
+  // vertices on the tessellation path (culled = nothing emitted).
+  uint64_t decisionMismatch = 0;
+  double lambdaMax = 0.0;
+  std::string notes;
+  auto noteDecision = [&](uint32_t s, const std::string& what) {
+    if (decisionMismatch++ < 5) notes += fmt::format("segment {}: {}\n", s, what);
+  };
+  if (!spec.tessellation) {
+    if (gpuDecisions.size() != cpu.geometry.decisions.size())
+      throw std::runtime_error("compute path returned a decision count different from the segment list");
+    for (size_t i = 0; i < gpuDecisions.size(); ++i) {
+      const SegmentDecision &c = cpu.geometry.decisions[i], &g = gpuDecisions[i];
+      lambdaMax = std::max(lambdaMax, static_cast<double>(std::abs(c.lambda - g.lambda)));
+      if (ambiguous.count(cpu.geometry.segments[i])) continue;
+      if (c.culled != g.culled || c.regularCount != g.regularCount || c.subdivisions != g.subdivisions ||
+          c.vertexCount != g.vertexCount)
+        noteDecision(cpu.geometry.segments[i],
+                     fmt::format("CPU culled {} fibers {} subdiv {} / GPU culled {} fibers {} subdiv {}", c.culled,
+                                 c.regularCount, c.subdivisions, g.culled, g.regularCount, g.subdivisions));
+    }
+  } else {
+    struct Seen { std::set<uint32_t> strands; uint32_t maxVertex = 0; };
+    std::unordered_map<uint32_t, Seen> seen;
+    for (const FiberVertex& v : gpuVertices) {
+      Seen& s = seen[v.id.y];
+      s.strands.insert(v.id.z);
+      s.maxVertex = std::max(s.maxVertex, (v.id.w >> 8) & 0xFFu);
+    }
+    for (size_t i = 0; i < cpu.geometry.segments.size(); ++i) {
+      const uint32_t s = cpu.geometry.segments[i];
+      if (ambiguous.count(s)) continue;
+      const SegmentDecision& c = cpu.geometry.decisions[i];
+      auto it = seen.find(s);
+      const bool gpuCulled = it == seen.end();
+      if (gpuCulled != (c.culled != 0u)) {
+        noteDecision(s, fmt::format("CPU culled {} / GPU emitted {}", c.culled, gpuCulled ? "nothing" : "fibers"));
+      } else if (!gpuCulled && (it->second.strands.size() != params.plyCount * (1u + c.regularCount) ||
+                                it->second.maxVertex != c.subdivisions)) {
+        noteDecision(s, fmt::format("CPU {} strands × {} subdiv / GPU {} strands × {} subdiv",
+                                    params.plyCount * (1u + c.regularCount), c.subdivisions,
+                                    it->second.strands.size(), it->second.maxVertex));
+      }
+    }
+    for (const auto& [s, unused] : seen)
+      if (!listIndex.count(s)) noteDecision(s, "GPU emitted a segment that is not in the list");
+  }
+
+  double maxCoordinate = 0.0;
+  for (const FiberVertex& v : cpuKept)
+    maxCoordinate = std::max({maxCoordinate, std::abs(double(v.position.x)), std::abs(double(v.position.y)),
+                              std::abs(double(v.position.z))});
+  const StreamComparison cmp = compareStreams(cpuKept, gpuKept, params.boundRadius);
+  const double posTol = positionTolerance(params, maxCoordinate);
+  r.histogram = cmp.histogram;
+  r.metrics = {
+      exact("vertices.count_difference", std::abs(double(cmp.gpuVertices) - double(cmp.cpuVertices)),
+            "both sides generate the same vertices"),
+      exact("fibers.count_difference", std::abs(double(cmp.gpuFibers) - double(cmp.cpuFibers)),
+            "both sides generate the same fibers"),
+      exact("vertices.missing", double(cmp.missing), "every CPU vertex exists on the GPU"),
+      exact("vertices.extra", double(cmp.extra), "the GPU emits no vertex the CPU does not"),
+      exact("vertices.duplicates_disagree", double(cmp.duplicateDisagree),
+            "a vertex shared by two isoline segments is evaluated identically"),
+      exact("ids.mismatched", double(cmp.idMismatch),
+            "yarn, type and period tags come from exact integer/float operations"),
+      exact("decisions.mismatched", double(decisionMismatch), "LoD counts and culling are discrete decisions"),
+      Metric{"position.max_abs", cmp.maxAbs, posTol, "world units", kPositionWhy, true},
+      Metric{"position.rmse", cmp.rmse, 0.01 * params.fiberRadius, "world units",
+             "1% of the fiber radius: typical error must be far below the worst case", true},
+      Metric{"position.max_rel", cmp.maxRel, 1e-4, "fraction of max(|p|, yarn bound radius)",
+             "100× the float resolution of the generating arithmetic (sin/cos ~1e-6)", true},
+      Metric{"width.max_abs", cmp.maxWidthAbs, 1e-3 * params.fiberRadius, "world units",
+             "strip widths are products of params and λ²: 0.1% of the fiber radius", true},
+      Metric{"decisions.ambiguous", double(ambiguous.size()), 0.0, "segments",
+             "decisions within 1e-4 (relative) of a rounding boundary; excluded from exact checks", false},
+      Metric{"vertices.cpu", double(cmp.cpuVertices), 0.0, "count", "size of the comparison", false},
+      Metric{"segments.listed", double(cpu.geometry.segments.size()), 0.0, "count", "segments generated", false},
+  };
+  if (!spec.tessellation)
+    r.metrics.push_back(Metric{"lambda.max_abs", lambdaMax, 1e-5, "λ",
+                               "λ² scales counts ≤ 4096 through ceil(): 1e-5 moves them by < 0.1", true});
+  r.details = notes + cmp.firstMismatches;
+  r.finish();
+
+  // Thumbnails: the CPU stream and the GPU path's own rendering, same camera.
+  if (o.images && (!r.pass || spec.preset == ctx.presets().front())) {
+    Camera thumb = camera;
+    thumb.width = o.imageWidth;
+    thumb.height = o.imageHeight;
+    const ViewParams tv = makeViewParams(thumb, o.lodThresholdPx, true, true);
+    gpu.setParams(params, tv);
+    // The CPU image reuses the LoD decisions of the harness view: draw it with them.
+    std::vector<SegmentDecision> visibleDecisions = cpu.geometry.decisions;
+    const std::string stem = name;
+    r.images.push_back(ctx.saveImage(gpu.renderVertices(cpu.geometry.vertices, visibleDecisions, o.imageWidth,
+                                                        o.imageHeight, RenderStyle{}),
+                                     stem + "-cpu"));
+    gpu.setParams(params, view);  // the GPU image with the same decisions as the comparison
+    RgbaImage g = spec.tessellation ? gpu.renderTessellation(o.imageWidth, o.imageHeight, RenderStyle{})
+                                    : gpu.renderCompute(o.imageWidth, o.imageHeight, RenderStyle{});
+    r.images.push_back(ctx.saveImage(g, stem + "-gpu"));
+  }
+  return r;
+}
+
+CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
+  CaseResult r;
+  r.name = name;
+  r.group = "frames";
+  r.path = "compute";
+  const auto t0 = Clock::now();
+  const std::vector<FrameNormal>& cpu = cpuFrames(ctx);
+  r.cpuMilliseconds = msSince(t0);
+  FiberGpu& gpu = ctx.fiberGpu();
+  const std::vector<FiberCoord> table(1, FiberCoord{0.0f, 0.0f});
+  const auto t1 = Clock::now();
+  gpu.setModel(ctx.buffers(), table);
+  const std::vector<FrameNormal> g = gpu.readFrames();
+  r.gpuMilliseconds = msSince(t1);
+  r.gpuTiming = "glFinish+steady_clock (includes upload)";
+  double maxAngle = 0.0, maxUnit = 0.0, maxOrtho = 0.0;
+  const YarnBuffers& y = ctx.buffers();
+  for (size_t ci = 0; ci < y.curves.size(); ++ci) {
+    const CurveInfo& c = y.curves[ci];
+    for (uint32_t k = 0; k < ftCurveKnotCount(c); ++k) {
+      const uint32_t segment = c.firstSegment + std::min(k, ftCurveSegmentCount(c) - 1);
+      const YarnSegment seg = loadSegmentCpu(y, cpu, segment);
+      const Knot knot = k < ftCurveSegmentCount(c) ? ftSegmentStartKnot(seg) : ftSegmentEndKnot(seg);
+      const glm::dvec3 a(glm::vec3(cpu[c.frameBase + k].normal)), b(glm::vec3(g[c.frameBase + k].normal));
+      const double ang = std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+      maxAngle = std::max(maxAngle, ang);
+      maxUnit = std::max(maxUnit, std::abs(glm::length(b) - 1.0));
+      maxOrtho = std::max(maxOrtho, std::abs(glm::dot(b, glm::dvec3(knot.tangent))));
+      r.histogram.add(ang);
+    }
+  }
+  if (g.size() != cpu.size()) throw std::runtime_error("GPU frame count differs from the CPU's");
+  r.metrics = {
+      Metric{"normal.max_angle", maxAngle, 1e-4, "radians",
+             "1e-4 rad turns a ply by 1e-4 of its offset (~2e-6 units, <1% of a fiber radius) after "
+             "propagation over thousands of knots",
+             true},
+      Metric{"normal.unit_error", maxUnit, 1e-5, "|n|-1", "normalized with sqrt on both sides: a few ulps", true},
+      Metric{"normal.tangent_dot", maxOrtho, 1e-5, "|n·t|", "the normal is projected ⟂ the tangent: a few ulps",
+             true},
+      Metric{"knots", double(cpu.size()), 0.0, "count", "frames compared", false},
+  };
+  r.finish();
+  return r;
+}
+
+}  // namespace
+
+void addFiberCases(ValidationContext& ctx, std::vector<ValidationCase>& out) {
+  const std::string model = ctx.modelLabel();
+  out.push_back({"frames/" + model, [name = "frames/" + model](ValidationContext& c) { return runFramesCase(c, name); }});
+  for (const YarnPreset* preset : ctx.presets())
+    for (LodDistance lod : {LodDistance::Near, LodDistance::Mid, LodDistance::Far})
+      for (bool tess : {true, false}) {
+        const std::string name = fmt::format("fiber/{}/{}/{}/{}", model, preset->name, lodDistanceName(lod),
+                                             tess ? "tessellation" : "compute");
+        FiberCaseSpec spec{preset, lod, tess};
+        out.push_back({name, [spec, name](ValidationContext& c) { return runFiberCase(c, spec, name); }});
+      }
+}
+
+}  // namespace ft

@@ -1,0 +1,107 @@
+#include "validation/harness.h"
+
+#include <chrono>
+#include <fmt/format.h>
+#include <fstream>
+#include <ostream>
+
+#include "scene/bcc_reader.h"
+#include "scene/default_scene.h"
+#include "scene/input_error.h"
+#include "validation/faults.h"
+#include "validation/report.h"
+
+namespace ft {
+
+void CaseResult::finish() {
+  pass = error.empty();
+  for (const Metric& m : metrics) pass = pass && m.pass();
+}
+
+ValidationContext::ValidationContext(HarnessOptions options) : options_(std::move(options)) {
+  model_ = options_.model ? readBcc(*options_.model) : makeDefaultScene();
+  buffers_ = buildYarnBuffers(model_);
+  for (const std::string& y : options_.yarns) findYarnPreset(y);  // unknown names fail before any GL work
+  std::vector<std::string> defines;
+  if (!options_.inject.empty()) {
+    const Fault* f = findFault(options_.inject);
+    if (!f) {
+      std::string names;
+      for (const Fault& k : kFaults) names += std::string(names.empty() ? "" : ", ") + k.name;
+      throw InputError(fmt::format("--inject: unknown fault '{}' (known: {})", options_.inject, names));
+    }
+    defines.push_back(f->define);
+  }
+  context_ = GlContext::create(options_.backend);
+  const GlInfo& gi = context_->info();
+  fiberGpu_ = std::make_unique<FiberGpu>(defines, gi.maxTessGenLevel, gi.maxComputeWorkGroupCount[1],
+                                         gi.maxComputeWorkGroupCount[2]);
+  std::filesystem::create_directories(options_.reportDir / "images");
+}
+
+std::string ValidationContext::modelLabel() const {
+  return options_.model ? options_.model->stem().string() : std::string("default");
+}
+
+std::vector<const YarnPreset*> ValidationContext::presets() const {
+  std::vector<const YarnPreset*> out;
+  if (options_.yarns.empty())
+    for (const YarnPreset& p : builtinYarnPresets()) out.push_back(&p);
+  else
+    for (const std::string& y : options_.yarns) out.push_back(&findYarnPreset(y));
+  return out;
+}
+
+std::string ValidationContext::saveImage(const RgbaImage& image, const std::string& stem) {
+  std::string file = stem;
+  for (char& c : file)
+    if (c == '/') c = '_';
+  file = "images/" + file + ".png";
+  writePng(options_.reportDir / file, image);
+  return file;
+}
+
+RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ValidationContext ctx(options);
+  std::vector<ValidationCase> cases;
+  addFiberCases(ctx, cases);  // one line per algorithm
+
+  const std::regex filter(options.filter.empty() ? std::string(".*") : options.filter);
+  RunSummary summary;
+  const GlInfo& gl = ctx.gl();
+  log << fmt::format("fibertwin validate: {} on {} ({}, {}), model {}{}\n", gl.version, gl.renderer, gl.vendor,
+                     gl.backend, ctx.modelLabel(), options.inject.empty() ? "" : ", injected fault " + options.inject);
+  for (ValidationCase& c : cases) {
+    if (!std::regex_search(c.name, filter)) continue;
+    CaseResult r;
+    try {
+      r = c.run(ctx);
+    } catch (const std::exception& e) {
+      r = CaseResult{};
+      r.name = c.name;
+      r.error = e.what();
+      r.finish();
+    }
+    std::string failed;
+    for (const Metric& m : r.metrics)
+      if (!m.pass()) failed += fmt::format(" {}={:.3g}>{:.3g}", m.name, m.value, m.tolerance);
+    log << fmt::format("  {:<4} {:<58} cpu {:8.1f} ms  gpu {:8.1f} ms{}{}\n", r.pass ? "ok" : "FAIL", r.name,
+                       r.cpuMilliseconds, r.gpuMilliseconds, failed, r.error.empty() ? "" : "  error: " + r.error);
+    summary.results.push_back(std::move(r));
+  }
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  summary.allPassed = !summary.results.empty();
+  size_t passed = 0;
+  for (const CaseResult& r : summary.results) {
+    summary.allPassed = summary.allPassed && r.pass;
+    passed += r.pass;
+  }
+  writeReport(options, ctx.gl(), ctx.modelLabel(), summary);
+  log << fmt::format("{} passed, {} failed ({:.1f} s); report: {}\n", passed, summary.results.size() - passed,
+                     summary.seconds, (options.reportDir / "index.html").string());
+  if (summary.results.empty()) log << "no case matched the filter\n";
+  return summary;
+}
+
+}  // namespace ft

@@ -1,0 +1,85 @@
+// harness.h — the cross-check harness: a registry of cases, each running a
+// CPU reference and a GPU path and comparing them with named metrics against
+// tolerances declared beside the case. Adding an algorithm = one
+// `add...Cases` function and one line in harness.cpp.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "gpu/fiber_gpu.h"
+#include "gpu/gl_context.h"
+#include "scene/yarn_fibers.h"
+#include "scene/yarn_model.h"
+#include "scene/yarn_preset.h"
+#include "validation/metrics.h"
+
+namespace ft {
+
+struct HarnessOptions {
+  std::optional<std::filesystem::path> model;  // BCC file; default: the built-in scene
+  std::vector<std::string> yarns;              // preset names; empty: all
+  std::string filter;                          // regex on case names; empty: all
+  std::string inject;                          // fault name (faults.h); empty: none
+  std::filesystem::path reportDir = "fibertwin-report";
+  GlBackend backend = GlBackend::Auto;
+  FiberOptions fiber;
+  int lodWidth = 640, lodHeight = 480;         // the view the LoD decisions are made for
+  float lodThresholdPx = 1.0f;                 // ω^LoD
+  int imageWidth = 256, imageHeight = 192;     // report thumbnails
+  bool images = true;
+  size_t tessSegmentBudget = 1500;             // tessellation cases on bigger models use a fixed subset
+};
+
+class ValidationContext;
+
+struct ValidationCase {
+  std::string name;
+  std::function<CaseResult(ValidationContext&)> run;
+};
+
+// Shared state of one run: GL context, GPU programs (built with the injected
+// fault), the model, cached CPU results.
+class ValidationContext {
+ public:
+  explicit ValidationContext(HarnessOptions options);
+  const HarnessOptions& options() const { return options_; }
+  const GlInfo& gl() const { return context_->info(); }
+  FiberGpu& fiberGpu() { return *fiberGpu_; }
+  const YarnModel& model() const { return model_; }
+  const YarnBuffers& buffers() const { return buffers_; }
+  std::string modelLabel() const;
+  std::vector<const YarnPreset*> presets() const;
+  // Writes an image into the report folder, returns its relative name.
+  std::string saveImage(const RgbaImage& image, const std::string& stem);
+  // Per-key cache for CPU results shared by cases (e.g. both GPU paths).
+  std::map<std::string, std::shared_ptr<void>>& cache() { return cache_; }
+
+ private:
+  HarnessOptions options_;
+  std::unique_ptr<GlContext> context_;
+  std::unique_ptr<FiberGpu> fiberGpu_;
+  YarnModel model_;
+  YarnBuffers buffers_;
+  std::map<std::string, std::shared_ptr<void>> cache_;
+};
+
+// Case factories, one per algorithm.
+void addFiberCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+
+struct RunSummary {
+  std::vector<CaseResult> results;
+  bool allPassed = false;
+  double seconds = 0.0;
+};
+
+// Runs every case whose name matches the filter; writes report.json and
+// index.html into options.reportDir.
+RunSummary runValidation(const HarnessOptions& options, std::ostream& log);
+
+}  // namespace ft

@@ -1,0 +1,151 @@
+// fibertwin — command-line program: cross-check the GPU paths against the CPU
+// reference (`validate`), render a yarn model (`render`), describe the GL
+// renderer (`info`) and list injectable faults (`faults`).
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <fmt/format.h>
+#include <iostream>
+
+#include "gpu/gl_context.h"
+#include "scene/bcc_reader.h"
+#include "scene/camera.h"
+#include "scene/default_scene.h"
+#include "scene/input_error.h"
+#include "scene/yarn_fibers.h"
+#include "validation/faults.h"
+#include "validation/harness.h"
+#include "validation/report.h"
+
+namespace {
+
+void addFiberOptions(CLI::App* app, ft::FiberOptions& f) {
+  app->add_option("--fibers-per-ply", f.regularFibersPerPly, "regular fibers drawn per ply (the rest form the core)")
+      ->capture_default_str();
+  app->add_option("--subdivisions", f.maxSubdivisions, "line segments per fiber per yarn segment (1-64)")
+      ->capture_default_str();
+  app->add_option("--fiber-radius", f.fiberRadius, "drawn fiber half-width, world units")->capture_default_str();
+  app->add_option("--seed", f.seed, "seed of the fiber table and fiber types")->capture_default_str();
+}
+
+ft::GlBackend parseBackend(const std::string& s) {
+  if (s.empty()) return ft::glBackendFromEnv();
+  auto b = ft::parseGlBackend(s);
+  if (!b) throw ft::InputError(fmt::format("--backend: unknown backend '{}' (auto, surfaceless, device, osmesa)", s));
+  return *b;
+}
+
+glm::vec3 parseVec3(const std::string& s, const char* option) {
+  glm::vec3 v;
+  char tail = 0;
+  if (std::sscanf(s.c_str(), "%f,%f,%f%c", &v.x, &v.y, &v.z, &tail) != 3 || !std::isfinite(v.x) ||
+      !std::isfinite(v.y) || !std::isfinite(v.z) || glm::length(v) == 0.0f)
+    throw ft::InputError(fmt::format("{}: '{}' is not a non-zero vector x,y,z", option, s));
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"fibertwin — fiber-level cloth: CPU reference and GPU paths, cross-checked"};
+  app.require_subcommand(1);
+
+  ft::HarnessOptions vo;
+  std::string modelPath, yarn, backend;
+  auto* validate = app.add_subcommand("validate", "run the CPU-vs-GPU cross-checks and write a report");
+  validate->add_option("--filter", vo.filter, "regular expression on case names");
+  validate->add_option("--model", modelPath, "BCC yarn model (default: the built-in scene)");
+  validate->add_option("--yarn", vo.yarns, "yarn preset(s) (default: all nine)");
+  validate->add_option("--report", vo.reportDir, "report folder")->capture_default_str();
+  validate->add_option("--inject", vo.inject, "build the GPU side with a planted fault (see `fibertwin faults`)");
+  validate->add_option("--backend", backend, "GL backend: auto, surfaceless, device, osmesa (env FT_GL_BACKEND)");
+  validate->add_option("--tess-segments", vo.tessSegmentBudget,
+                       "segments in the fixed subset tessellation cases use on large models")
+      ->capture_default_str();
+  validate->add_flag("!--no-images", vo.images, "skip the report thumbnails");
+  addFiberOptions(validate, vo.fiber);
+
+  ft::FiberOptions ro;
+  std::string outPath = "fibertwin.png", pathName = "compute", light = "0.3,0.8,0.5", view = "0.3,0.5,1", distance =
+                                                                                                              "frame";
+  int width = 1280, height = 960;
+  auto* render = app.add_subcommand("render", "render a yarn model with procedural fibers to a PNG");
+  render->add_option("--model", modelPath, "BCC yarn model (default: the built-in scene)");
+  render->add_option("--yarn", yarn, "yarn preset")->capture_default_str();
+  render->add_option("--out", outPath, "output PNG")->capture_default_str();
+  render->add_option("--width", width)->capture_default_str()->check(CLI::Range(16, 8192));
+  render->add_option("--height", height)->capture_default_str()->check(CLI::Range(16, 8192));
+  render->add_option("--path", pathName, "compute or tessellation")->capture_default_str();
+  render->add_option("--light", light, "direction towards the light, x,y,z")->capture_default_str();
+  render->add_option("--view", view, "direction from the model towards the camera, x,y,z")->capture_default_str();
+  render->add_option("--distance", distance, "frame (whole model), near, mid or far (LoD distances)")
+      ->capture_default_str();
+  render->add_option("--backend", backend, "GL backend");
+  addFiberOptions(render, ro);
+
+  auto* info = app.add_subcommand("info", "print the GL renderer and its limits");
+  info->add_option("--backend", backend, "GL backend");
+  app.add_subcommand("faults", "list the faults --inject can plant");
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (validate->parsed()) {
+      if (!modelPath.empty()) vo.model = modelPath;
+      vo.backend = parseBackend(backend);
+      return ft::runValidation(vo, std::cout).allPassed ? 0 : 1;
+    }
+    if (info->parsed()) {
+      auto ctx = ft::GlContext::create(parseBackend(backend));
+      const ft::GlInfo& g = ctx->info();
+      std::cout << fmt::format(
+          "backend {}\nvendor {}\nrenderer {}\nversion {}\nglsl {}\nmax tess gen level {}\nmax compute work groups "
+          "{} {} {}\nsoftware {}\ntimer queries meaningful {}\n",
+          g.backend, g.vendor, g.renderer, g.version, g.glslVersion, g.maxTessGenLevel, g.maxComputeWorkGroupCount[0],
+          g.maxComputeWorkGroupCount[1], g.maxComputeWorkGroupCount[2], g.isSoftware, g.timerQueriesMeaningful);
+      return 0;
+    }
+    if (app.got_subcommand("faults")) {
+      for (const ft::Fault& f : ft::kFaults) std::cout << fmt::format("{:<16} {}\n", f.name, f.description);
+      return 0;
+    }
+    if (render->parsed()) {
+      if (pathName != "compute" && pathName != "tessellation")
+        throw ft::InputError(fmt::format("--path: '{}' is neither compute nor tessellation", pathName));
+      const ft::YarnModel model = modelPath.empty() ? ft::makeDefaultScene() : ft::readBcc(modelPath);
+      const ft::YarnBuffers buffers = ft::buildYarnBuffers(model);
+      const ft::YarnPreset& preset = ft::findYarnPreset(yarn.empty() ? "cotton1" : yarn);
+      const auto table = ft::makeFiberTable(preset, ro.seed);
+      const ft::YarnParams params = ft::makeYarnParams(preset, table, ro);
+      ft::Camera cam;
+      if (distance == "frame") cam = ft::frameModel(model, parseVec3(view, "--view"), width, height);
+      else if (distance == "near") cam = ft::lodCamera(model, params, ft::LodDistance::Near, 1.0f, width, height);
+      else if (distance == "mid") cam = ft::lodCamera(model, params, ft::LodDistance::Mid, 1.0f, width, height);
+      else if (distance == "far") cam = ft::lodCamera(model, params, ft::LodDistance::Far, 1.0f, width, height);
+      else throw ft::InputError(fmt::format("--distance: '{}' is not frame, near, mid or far", distance));
+      auto ctx = ft::GlContext::create(parseBackend(backend));
+      const ft::GlInfo& g = ctx->info();
+      ft::FiberGpu gpu({}, g.maxTessGenLevel, g.maxComputeWorkGroupCount[1], g.maxComputeWorkGroupCount[2]);
+      gpu.setModel(buffers, table);
+      gpu.setParams(params, ft::makeViewParams(cam, 1.0f, true, true));
+      ft::RenderStyle style;
+      style.lightDir = glm::normalize(parseVec3(light, "--light"));
+      const auto t0 = std::chrono::steady_clock::now();
+      const ft::RgbaImage img = pathName == "compute" ? gpu.renderCompute(width, height, style)
+                                                      : gpu.renderTessellation(width, height, style);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      ft::writePng(outPath, img);
+      std::cout << fmt::format("{}: {} yarn curves, {} segments, yarn {}, {} path, {} ms on {}\n", outPath,
+                               model.curves.size(), buffers.segments.size(), preset.name, pathName,
+                               static_cast<int>(ms), g.renderer);
+      return 0;
+    }
+  } catch (const ft::InputError& e) {
+    std::cerr << "fibertwin: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "fibertwin: error: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}

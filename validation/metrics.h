@@ -1,0 +1,42 @@
+// metrics.h — named comparison metrics with the tolerance declared by the
+// case that uses them, and the results a case reports.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace ft {
+
+struct Metric {
+  std::string name;           // e.g. "position.max_abs"
+  double value = 0.0;
+  double tolerance = 0.0;     // pass iff value <= tolerance
+  std::string unit;           // "world units", "count", ...
+  std::string justification;  // why this tolerance, in meaningful units
+  bool gating = true;         // informational metrics do not decide pass/fail
+  bool pass() const { return !gating || value <= tolerance; }
+};
+
+// log10 histogram of per-vertex errors: bins [1e-10,1e-9), ..., [1e-1, inf); bin 0 also holds exact zeros.
+struct ErrorHistogram {
+  double firstDecade = -10.0;
+  std::vector<uint64_t> counts = std::vector<uint64_t>(10, 0);
+  void add(double error);
+};
+
+struct CaseResult {
+  std::string name;
+  std::string group;           // "fiber", "frames", ...
+  std::string path;            // "tessellation", "compute", "" for CPU-only checks
+  bool pass = false;
+  std::string error;           // an exception while running the case: always a failure
+  std::vector<Metric> metrics;
+  ErrorHistogram histogram;
+  double cpuMilliseconds = 0.0;
+  double gpuMilliseconds = 0.0;
+  std::string gpuTiming;       // how gpuMilliseconds was measured
+  std::vector<std::string> images;  // file names relative to the report folder
+  std::string details;         // first mismatches, for a person reading the report
+  void finish();               // pass := no error and every gating metric passes
+};
+
+}  // namespace ft
