@@ -35,7 +35,8 @@ function(ft_add_test name)
   include(GoogleTest)
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60
                        PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
-                                  ENVIRONMENT "FT_SOURCE_DIR=${PROJECT_SOURCE_DIR};FT_SHARED_DIR=${PROJECT_SOURCE_DIR}/../shared")
+                                  ENVIRONMENT "FT_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
+                                  ENVIRONMENT_MODIFICATION "FT_SHARED_DIR=set:${PROJECT_SOURCE_DIR}/../shared")
 endfunction()
 
 # ft_add_benchmark(name SOURCES ... DEPS ...): a Google Benchmark program.

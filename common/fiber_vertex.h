@@ -36,7 +36,7 @@ struct DrawElementsCommand {
   uint baseVertex;
   uint baseInstance;
   uint vertexTotal;   // not read by GL: total vertices written, for read-back
-  uint pad0;
+  uint stripTotal;    // not read by GL: fiber strips (one generate invocation each)
   uint pad1;
 };
 FT_ASSERT_SIZE(DrawElementsCommand, 32)

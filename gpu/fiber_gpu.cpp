@@ -45,12 +45,18 @@ uint32_t checkedGroups(size_t items, size_t groupSize, int limit, const char* wh
 
 }  // namespace
 
-FiberGpu::FiberGpu(std::vector<std::string> defines, int maxTessGenLevel, int maxWorkGroupCountY,
-                   int maxWorkGroupCountZ)
+// llvmpipe (Mesa 22.3) loses or misplaces tessellation output when one patch
+// emits more than ~316 isoline vertices (measured: 315 correct, 318 and 320
+// wrong; tests/fiber_gpu_test.cpp InstancedPatches... catches it). On
+// llvmpipe a patch emits at most this many, and more instances make up for it.
+constexpr int kLlvmpipeMaxPatchVertices = 256;
+
+FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
     : defines_(std::move(defines)),
-      linesPerPatch_(std::min(maxTessGenLevel, 64)),
-      maxGroupsY_(maxWorkGroupCountY),
-      maxGroupsZ_(maxWorkGroupCountZ) {
+      maxTessGenLevel_(std::min(gl.maxTessGenLevel, 64)),
+      maxPatchVertices_(gl.renderer.find("llvmpipe") != std::string::npos ? kLlvmpipeMaxPatchVertices : 0),
+      maxGroupsY_(gl.maxComputeWorkGroupCount[1]),
+      maxGroupsZ_(gl.maxComputeWorkGroupCount[2]) {
   framesProgram_ = buildProgram({"shaders/yarn_frames.comp.glsl"}, defines_);
   decideProgram_ = buildProgram({"shaders/fiber_decide.comp.glsl"}, defines_);
   scanProgram_ = buildProgram({"shaders/fiber_scan.comp.glsl"}, defines_);
@@ -138,7 +144,7 @@ void FiberGpu::setSegmentList(std::span<const uint32_t> segments) {
   listCount_ = segments.size();
   replaceBuffer(list_, segments.size_bytes(), segments.data());
   replaceBuffer(decisions_, listCount_ * sizeof(SegmentDecision));
-  replaceBuffer(offsets_, listCount_ * sizeof(glm::uvec2));
+  replaceBuffer(offsets_, listCount_ * sizeof(glm::uvec4));
 }
 
 std::vector<FrameNormal> FiberGpu::readFrames() const { return readBack<FrameNormal>(frames_, knotCount_); }
@@ -157,18 +163,20 @@ void FiberGpu::generateCompute() {
   ensureComputeCapacity();
   bindCommon();
   glUseProgram(generateProgram_);
-  const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
-  const uint32_t groupsX = checkedGroups(slots, FT_WG_GENERATE, 65535, "fiber_generate x");
-  const uint32_t groupsY = static_cast<uint32_t>(std::min<size_t>(listCount_, static_cast<size_t>(maxGroupsY_)));
-  const uint32_t groupsZ = checkedGroups(listCount_, std::max<uint32_t>(groupsY, 1), maxGroupsZ_, "fiber_generate z");
+  const size_t strips = pendingStrips_;
+  const size_t groups = (strips + FT_WG_GENERATE - 1) / FT_WG_GENERATE;
+  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
+  const uint32_t groupsY = checkedGroups(groups, std::max<uint32_t>(groupsX, 1), maxGroupsY_, "fiber_generate");
   setUint(generateProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  setUint(generateProgram_, "groupsY", groupsY);
-  if (listCount_) glDispatchCompute(groupsX, groupsY, groupsZ);
+  setUint(generateProgram_, "stripTotal", static_cast<uint32_t>(strips));
+  setUint(generateProgram_, "groupsX", groupsX);
+  if (strips) glDispatchCompute(groupsX, groupsY, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 void FiberGpu::ensureComputeCapacity() {
   const DrawElementsCommand cmd = readDrawCommand();
+  pendingStrips_ = cmd.stripTotal;
   if (cmd.vertexTotal > vertexCapacity_ || !vertices_) {
     vertexCapacity_ = std::max<size_t>(cmd.vertexTotal, vertexCapacity_ * 3 / 2);
     replaceBuffer(vertices_, vertexCapacity_ * sizeof(FiberVertex));
@@ -195,6 +203,13 @@ std::vector<FiberVertex> FiberGpu::readComputeVertices() const {
 
 size_t FiberGpu::tessellationCapacity() const { return xfbCapacityLines_; }
 
+uint32_t FiberGpu::linesPerPatch() const {
+  int lines = maxTessGenLevel_;
+  if (maxPatchVertices_ > 0)
+    lines = std::min(lines, maxPatchVertices_ / static_cast<int>(params_.maxSubdivisions + 1));
+  return static_cast<uint32_t>(std::max(lines, 1));
+}
+
 size_t FiberGpu::captureTessellation() {
   // Size the capture from the GPU's own decisions (decide + scan passes); an
   // overflow is still detected below by comparing the two primitive queries.
@@ -208,7 +223,7 @@ size_t FiberGpu::captureTessellation() {
   glDispatchCompute(1, 1, 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   const DrawElementsCommand cmd = readDrawCommand();
-  const size_t lines = 2 * static_cast<size_t>(cmd.vertexTotal) - cmd.count;  // vertices - strips
+  const size_t lines = static_cast<size_t>(cmd.vertexTotal) - cmd.stripTotal;
   if (lines > xfbCapacityLines_ || !xfb_) {
     xfbCapacityLines_ = std::max<size_t>(lines, 1);
     replaceBuffer(xfb_, xfbCapacityLines_ * 2 * sizeof(FiberVertex));
@@ -216,28 +231,47 @@ size_t FiberGpu::captureTessellation() {
 
   bindCommon();
   glUseProgram(tessCaptureProgram_);
-  setUint(tessCaptureProgram_, "linesPerPatch", static_cast<uint32_t>(linesPerPatch_));
+  setUint(tessCaptureProgram_, "linesPerPatch", linesPerPatch());
   glBindVertexArray(vao_);
   glPatchParameteri(GL_PATCH_VERTICES, 4);
-  glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_);
-  GLuint queries[2];
-  glGenQueries(2, queries);
+  const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
+  const uint32_t instances = (slots + linesPerPatch() - 1) / linesPerPatch();
+  // One transform-feedback session per instance block, each into its own
+  // buffer range after the lines the previous ones wrote. llvmpipe (Mesa
+  // 22.3) misplaces output when a tessellated draw with several instances, or
+  // several draws, append within one session: part of the first block is
+  // overwritten (tests/fiber_gpu_test.cpp, InstancedPatches..., catches it).
+  // Rendering uses one instanced draw with the same shaders.
   glBindFramebuffer(GL_FRAMEBUFFER, captureFbo_);
   glEnable(GL_RASTERIZER_DISCARD);
-  glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
-  glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
-  glBeginTransformFeedback(GL_LINES);
-  const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
-  const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch_ - 1) / linesPerPatch_);
-  glDrawArraysInstanced(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_), instances);
-  glEndTransformFeedback();
-  glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
-  glEndQuery(GL_PRIMITIVES_GENERATED);
+  GLuint queries[2];
+  glGenQueries(2, queries);
+  size_t written = 0, generated = 0;
+  const size_t lineBytes = 2 * sizeof(FiberVertex);
+  for (uint32_t k = 0; k < instances; ++k) {
+    const size_t room = xfbCapacityLines_ > written ? xfbCapacityLines_ - written : 0;
+    if (room == 0) {  // still draw, to count what overflowed
+      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, 0, static_cast<GLsizeiptr>(lineBytes));
+    } else {
+      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, static_cast<GLintptr>(written * lineBytes),
+                        static_cast<GLsizeiptr>(room * lineBytes));
+    }
+    setUint(tessCaptureProgram_, "instanceOffset", k);
+    glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
+    glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
+    glBeginTransformFeedback(GL_LINES);
+    glDrawArrays(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_));
+    glEndTransformFeedback();
+    glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+    glEndQuery(GL_PRIMITIVES_GENERATED);
+    GLuint g = 0, w = 0;
+    glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &g);
+    glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &w);
+    generated += g;
+    written += room == 0 ? 0 : w;
+  }
   glDisable(GL_RASTERIZER_DISCARD);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  GLuint generated = 0, written = 0;
-  glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &generated);
-  glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &written);
   glDeleteQueries(2, queries);
   if (generated != written)
     throw std::runtime_error(fmt::format("tessellation capture overflow: {} lines generated, {} written (buffer "
@@ -305,10 +339,11 @@ RgbaImage FiberGpu::renderCompute(int width, int height, const RenderStyle& styl
 
 RgbaImage FiberGpu::renderTessellation(int width, int height, const RenderStyle& style) {
   return renderWith(width, height, style, tessDrawProgram_, [&] {
-    setUint(tessDrawProgram_, "linesPerPatch", static_cast<uint32_t>(linesPerPatch_));
+    setUint(tessDrawProgram_, "linesPerPatch", linesPerPatch());
+    setUint(tessDrawProgram_, "instanceOffset", 0u);
     glPatchParameteri(GL_PATCH_VERTICES, 4);
     const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
-    const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch_ - 1) / linesPerPatch_);
+    const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch() - 1) / linesPerPatch());
     glDrawArraysInstanced(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_), instances);
   });
 }

@@ -19,6 +19,7 @@
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
+#include "gpu/gl_context.h"
 #include "scene/fiber_input.h"
 
 namespace ft {
@@ -37,10 +38,9 @@ struct RenderStyle {
 
 class FiberGpu {
  public:
-  // `defines` are injected into every shader (fault injection uses them).
-  // `maxTessGenLevel` is the driver's GL_MAX_TESS_GEN_LEVEL.
-  FiberGpu(std::vector<std::string> defines, int maxTessGenLevel, int maxWorkGroupCountY,
-           int maxWorkGroupCountZ);
+  // `defines` are injected into every shader (fault injection uses them);
+  // limits (GL_MAX_TESS_GEN_LEVEL, work-group counts) come from `gl`.
+  FiberGpu(const GlInfo& gl, std::vector<std::string> defines = {});
   ~FiberGpu();
   FiberGpu(const FiberGpu&) = delete;
   FiberGpu& operator=(const FiberGpu&) = delete;
@@ -68,6 +68,9 @@ class FiberGpu {
   std::vector<FiberVertex> readTessellationLines() const;
   // Upper bound of line segments a tessellation capture can write (buffer size).
   size_t tessellationCapacity() const;
+  // Isolines per patch for the current params (GL_MAX_TESS_GEN_LEVEL, or less
+  // on llvmpipe, see kLlvmpipeMaxPatchVertices in fiber_gpu.cpp).
+  uint32_t linesPerPatch() const;
 
   // Images: the compute path's own buffers, the tessellation path, or an
   // arbitrary vertex stream in canonical strip order (e.g. the CPU's).
@@ -83,7 +86,8 @@ class FiberGpu {
   RgbaImage renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw);
 
   std::vector<std::string> defines_;
-  int linesPerPatch_ = 64;
+  int maxTessGenLevel_ = 64;
+  int maxPatchVertices_ = 0;  // 0: no limit
   int maxGroupsY_ = 65535;
   int maxGroupsZ_ = 65535;
   GLuint framesProgram_ = 0, decideProgram_ = 0, scanProgram_ = 0, generateProgram_ = 0;
@@ -94,7 +98,7 @@ class FiberGpu {
   GLuint points_ = 0, curves_ = 0, segments_ = 0, frames_ = 0, table_ = 0, list_ = 0;
   GLuint decisions_ = 0, offsets_ = 0, vertices_ = 0, indices_ = 0, draw_ = 0, xfb_ = 0;
   size_t curveCount_ = 0, segmentCount_ = 0, knotCount_ = 0, listCount_ = 0, inputBytes_ = 0;
-  size_t vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;
+  size_t pendingStrips_ = 0, vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;
   YarnParams params_{};
 };
 

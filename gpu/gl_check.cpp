@@ -26,7 +26,8 @@ const char* debugTypeName(GLenum type) {
 
 void GLAPIENTRY debugCallback(GLenum /*source*/, GLenum type, GLuint id, GLenum severity, GLsizei length,
                               const GLchar* message, const void* /*user*/) {
-  std::string text(message, length >= 0 ? static_cast<std::size_t>(length) : std::char_traits<char>::length(message));
+  std::string text(message,
+                   length >= 0 ? static_cast<std::size_t>(length) : std::char_traits<char>::length(message));
   if (type == GL_DEBUG_TYPE_ERROR) {
     if (tPendingDebugErrors.size() < kMaxPending) tPendingDebugErrors += "\n  debug: " + text;
     return;

@@ -91,7 +91,8 @@ struct EglClient {
       if (hasToken(c.extensions, "EGL_EXT_platform_base"))
         c.getPlatformDisplay =
             reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-      if (hasToken(c.extensions, "EGL_EXT_device_enumeration") || hasToken(c.extensions, "EGL_EXT_device_base"))
+      if (hasToken(c.extensions, "EGL_EXT_device_enumeration") ||
+          hasToken(c.extensions, "EGL_EXT_device_base"))
         c.queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
       if (hasToken(c.extensions, "EGL_EXT_device_query") || hasToken(c.extensions, "EGL_EXT_device_base"))
         c.queryDeviceString =
@@ -151,7 +152,8 @@ class EglContext final : public GlContext {
     if (!hasToken(ext, "EGL_KHR_surfaceless_context"))
       throw std::runtime_error("EGL: " + what + " lacks EGL_KHR_surfaceless_context");
     if (!hasToken(ext, "EGL_KHR_create_context"))
-      throw std::runtime_error("EGL: " + what + " lacks EGL_KHR_create_context (needed for a 4.5 core context)");
+      throw std::runtime_error("EGL: " + what +
+                               " lacks EGL_KHR_create_context (needed for a 4.5 core context)");
     if (!eglBindAPI(EGL_OPENGL_API)) throwEgl("eglBindAPI(EGL_OPENGL_API) on " + what);
 
     EGLConfig config = EGL_NO_CONFIG_KHR;
@@ -162,10 +164,14 @@ class EglContext final : public GlContext {
       if (count == 0) throw std::runtime_error("EGL: no OpenGL-renderable config on " + what);
     }
     bool debug = debugRequested();
-    const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION_KHR, 4,
-                                     EGL_CONTEXT_MINOR_VERSION_KHR, 5,
-                                     EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR,
-                                     EGL_CONTEXT_FLAGS_KHR, debug ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0,
+    const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION_KHR,
+                                     4,
+                                     EGL_CONTEXT_MINOR_VERSION_KHR,
+                                     5,
+                                     EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR,
+                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR,
+                                     EGL_CONTEXT_FLAGS_KHR,
+                                     debug ? EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR : 0,
                                      EGL_NONE};
     ctx_ = eglCreateContext(dpy_, config, EGL_NO_CONTEXT, contextAttribs);
     if (ctx_ == EGL_NO_CONTEXT) throwEgl("eglCreateContext(OpenGL 4.5 core) on " + what);
@@ -176,7 +182,8 @@ class EglContext final : public GlContext {
 
   void destroy() {
     if (ctx_ != EGL_NO_CONTEXT) {
-      if (eglGetCurrentContext() == ctx_) eglMakeCurrent(dpy_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+      if (eglGetCurrentContext() == ctx_)
+        eglMakeCurrent(dpy_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       eglDestroyContext(dpy_, ctx_);
       ctx_ = EGL_NO_CONTEXT;
     }
@@ -193,7 +200,8 @@ class EglContext final : public GlContext {
 std::unique_ptr<GlContext> createSurfaceless() {
   const EglClient& egl = EglClient::get();
   if (!egl.has("EGL_MESA_platform_surfaceless") || !egl.getPlatformDisplay)
-    throw std::runtime_error("EGL: client extensions lack EGL_MESA_platform_surfaceless / EGL_EXT_platform_base");
+    throw std::runtime_error(
+        "EGL: client extensions lack EGL_MESA_platform_surfaceless / EGL_EXT_platform_base");
   EGLDisplay dpy = egl.getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   if (dpy == EGL_NO_DISPLAY) throwEgl("eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA)");
   return std::make_unique<EglContext>(GlBackend::EglSurfaceless, dpy, "the surfaceless display");
@@ -202,7 +210,8 @@ std::unique_ptr<GlContext> createSurfaceless() {
 std::vector<EGLDeviceEXT> eglDevices() {
   const EglClient& egl = EglClient::get();
   if (!egl.queryDevices || !egl.getPlatformDisplay || !egl.has("EGL_EXT_platform_device"))
-    throw std::runtime_error("EGL: client extensions lack EGL_EXT_device_enumeration / EGL_EXT_platform_device");
+    throw std::runtime_error(
+        "EGL: client extensions lack EGL_EXT_device_enumeration / EGL_EXT_platform_device");
   EGLint count = 0;
   if (!egl.queryDevices(0, nullptr, &count)) throwEgl("eglQueryDevicesEXT(count)");
   std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
@@ -227,17 +236,15 @@ std::unique_ptr<GlContext> createDevice(bool hardwareOnly, std::string& errors) 
     std::string what = "EGL device " + std::to_string(i);
     try {
       EGLDisplay dpy = EglClient::get().getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
-      if (dpy == EGL_NO_DISPLAY) throwEgl("eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, device " +
-                                          std::to_string(i) + ")");
+      if (dpy == EGL_NO_DISPLAY)
+        throwEgl("eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, device " + std::to_string(i) + ")");
       auto ctx = std::make_unique<EglContext>(GlBackend::EglDevice, dpy, what);
       if (hardwareOnly && ctx->info().isSoftware) {
         errors += "\n  " + what + ": software renderer " + ctx->info().renderer;
         continue;
       }
       return ctx;
-    } catch (const std::exception& e) {
-      errors += "\n  " + what + ": " + e.what();
-    }
+    } catch (const std::exception& e) { errors += "\n  " + what + ": " + e.what(); }
   }
   if (devices.empty()) errors += "\n  eglQueryDevicesEXT found no devices";
   return nullptr;
@@ -259,8 +266,8 @@ struct GlFunctionSlot {
   void (*set)(GlProc);
 };
 const GlFunctionSlot kGlFunctionSlots[] = {
-#define FT_GL_FUNCTION(name)                                                         \
-  {#name, [] { return reinterpret_cast<GlProc>(epoxy_##name); },                     \
+#define FT_GL_FUNCTION(name)                                     \
+  {#name, [] { return reinterpret_cast<GlProc>(epoxy_##name); }, \
    [](GlProc p) { epoxy_##name = reinterpret_cast<decltype(epoxy_##name)>(p); }},
 #include "gpu/gl_functions.inc"
 #undef FT_GL_FUNCTION
@@ -301,12 +308,18 @@ class OsMesaContext final : public GlContext {
  public:
   OsMesaContext() : GlContext(GlBackend::OSMesa), buffer_(kSize * kSize * 4) {
     bool debug = debugRequested();
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA,
-                           OSMESA_DEPTH_BITS, 24,
-                           OSMESA_STENCIL_BITS, 8,
-                           OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION, 4,
-                           OSMESA_CONTEXT_MINOR_VERSION, 5,
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           24,
+                           OSMESA_STENCIL_BITS,
+                           8,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           4,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           5,
                            0};
     ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!ctx_) throw std::runtime_error("OSMesa: OSMesaCreateContextAttribs(OpenGL 4.5 core) failed");
@@ -381,7 +394,8 @@ GlBackend glBackendFromEnv() {
   const char* v = std::getenv("FT_GL_BACKEND");
   if (!v || !*v) return GlBackend::Auto;
   if (auto b = parseGlBackend(v)) return *b;
-  throw std::runtime_error(std::string("FT_GL_BACKEND=") + v + ": expected auto, surfaceless, device or osmesa");
+  throw std::runtime_error(std::string("FT_GL_BACKEND=") + v +
+                           ": expected auto, surfaceless, device or osmesa");
 }
 
 bool hasGlExtension(const char* name) {
@@ -448,28 +462,20 @@ std::unique_ptr<GlContext> GlContext::create(GlBackend backend) {
   if (haveDevices) {
     try {
       if (auto ctx = createDevice(true, errors)) return ctx;
-    } catch (const std::exception& e) {
-      errors += std::string("\n  ") + e.what();
-    }
+    } catch (const std::exception& e) { errors += std::string("\n  ") + e.what(); }
   }
   try {
     return createSurfaceless();
-  } catch (const std::exception& e) {
-    errors += std::string("\n  surfaceless: ") + e.what();
-  }
+  } catch (const std::exception& e) { errors += std::string("\n  surfaceless: ") + e.what(); }
   if (haveDevices) {
     try {
       if (auto ctx = createDevice(false, errors)) return ctx;
-    } catch (const std::exception& e) {
-      errors += std::string("\n  ") + e.what();
-    }
+    } catch (const std::exception& e) { errors += std::string("\n  ") + e.what(); }
   }
 #ifdef FT_WITH_OSMESA
   try {
     return createOsMesa();
-  } catch (const std::exception& e) {
-    errors += std::string("\n  osmesa: ") + e.what();
-  }
+  } catch (const std::exception& e) { errors += std::string("\n  osmesa: ") + e.what(); }
 #endif
   throw std::runtime_error("GlContext: no backend gave an OpenGL 4.5 core context:" + errors);
 }

@@ -23,11 +23,11 @@ const char* glBackendName(GlBackend backend);
 GlBackend glBackendFromEnv();
 
 struct GlInfo {
-  std::string backend;       // the backend actually used: "egl-surfaceless", "egl-device", "osmesa"
-  std::string vendor;        // GL_VENDOR
-  std::string renderer;      // GL_RENDERER
-  std::string version;       // GL_VERSION
-  std::string glslVersion;   // GL_SHADING_LANGUAGE_VERSION
+  std::string backend;      // the backend actually used: "egl-surfaceless", "egl-device", "osmesa"
+  std::string vendor;       // GL_VENDOR
+  std::string renderer;     // GL_RENDERER
+  std::string version;      // GL_VERSION
+  std::string glslVersion;  // GL_SHADING_LANGUAGE_VERSION
   int maxTessGenLevel = 0;
   int maxComputeWorkGroupCount[3] = {0, 0, 0};
   int maxComputeWorkGroupSize[3] = {0, 0, 0};

@@ -45,14 +45,30 @@ class GlObject {
 };
 
 namespace detail {
-struct ProgramTraits { static void destroy(GLuint id) { glDeleteProgram(id); } };
-struct ShaderTraits { static void destroy(GLuint id) { glDeleteShader(id); } };
-struct VertexArrayTraits { static void destroy(GLuint id) { glDeleteVertexArrays(1, &id); } };
-struct QueryTraits { static void destroy(GLuint id) { glDeleteQueries(1, &id); } };
-struct TextureTraits { static void destroy(GLuint id) { glDeleteTextures(1, &id); } };
-struct FramebufferTraits { static void destroy(GLuint id) { glDeleteFramebuffers(1, &id); } };
-struct RenderbufferTraits { static void destroy(GLuint id) { glDeleteRenderbuffers(1, &id); } };
-struct BufferTraits { static void destroy(GLuint id) { glDeleteBuffers(1, &id); } };
+struct ProgramTraits {
+  static void destroy(GLuint id) { glDeleteProgram(id); }
+};
+struct ShaderTraits {
+  static void destroy(GLuint id) { glDeleteShader(id); }
+};
+struct VertexArrayTraits {
+  static void destroy(GLuint id) { glDeleteVertexArrays(1, &id); }
+};
+struct QueryTraits {
+  static void destroy(GLuint id) { glDeleteQueries(1, &id); }
+};
+struct TextureTraits {
+  static void destroy(GLuint id) { glDeleteTextures(1, &id); }
+};
+struct FramebufferTraits {
+  static void destroy(GLuint id) { glDeleteFramebuffers(1, &id); }
+};
+struct RenderbufferTraits {
+  static void destroy(GLuint id) { glDeleteRenderbuffers(1, &id); }
+};
+struct BufferTraits {
+  static void destroy(GLuint id) { glDeleteBuffers(1, &id); }
+};
 }  // namespace detail
 
 // Program: Program p(buildProgram({...}, defines));
@@ -98,11 +114,13 @@ class Buffer : public GlObject<detail::BufferTraits> {
 
   // Immutable storage (glNamedBufferStorage). data may be null (contents undefined);
   // flags e.g. GL_DYNAMIC_STORAGE_BIT to allow update(), GL_MAP_READ_BIT, ...
-  static Buffer create(std::size_t size, const void* data = nullptr, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT) {
+  static Buffer create(std::size_t size, const void* data = nullptr,
+                       GLbitfield flags = GL_DYNAMIC_STORAGE_BIT) {
     GLuint id = 0;
     glCreateBuffers(1, &id);
     // Zero-sized storage is an error in GL; keep one byte so empty inputs still bind.
-    glNamedBufferStorage(id, static_cast<GLsizeiptr>(size == 0 ? 1 : size), size == 0 ? nullptr : data, flags);
+    glNamedBufferStorage(id, static_cast<GLsizeiptr>(size == 0 ? 1 : size), size == 0 ? nullptr : data,
+                         flags);
     Buffer b(id, size);
     glCheck("Buffer::create (glNamedBufferStorage)");
     return b;
@@ -145,8 +163,8 @@ std::vector<T> readBuffer(GLuint buffer, std::size_t count, std::size_t byteOffs
   std::vector<T> out(count);
   if (count == 0) return out;
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  glGetNamedBufferSubData(buffer, static_cast<GLintptr>(byteOffset), static_cast<GLsizeiptr>(count * sizeof(T)),
-                          out.data());
+  glGetNamedBufferSubData(buffer, static_cast<GLintptr>(byteOffset),
+                          static_cast<GLsizeiptr>(count * sizeof(T)), out.data());
   glCheck("readBuffer (glGetNamedBufferSubData)");
   return out;
 }

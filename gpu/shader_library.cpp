@@ -58,7 +58,8 @@ int findIndexLocked(Registry& r, std::string_view name) {
   auto it = std::find_if(r.files.begin(), r.files.end(), [&](const ShaderSource& s) { return s.name == n; });
   if (it == r.files.end() && n.find('/') == std::string::npos) {
     std::string prefixed = "shaders/" + n;
-    it = std::find_if(r.files.begin(), r.files.end(), [&](const ShaderSource& s) { return s.name == prefixed; });
+    it = std::find_if(r.files.begin(), r.files.end(),
+                      [&](const ShaderSource& s) { return s.name == prefixed; });
   }
   return it == r.files.end() ? -1 : static_cast<int>(it - r.files.begin());
 }
@@ -74,7 +75,8 @@ std::string_view directive(std::string_view line, std::string_view* rest) {
   i = line.find_first_not_of(" \t", i + 1);
   if (i == std::string_view::npos) return {};
   std::size_t end = i;
-  while (end < line.size() && (std::isalnum(static_cast<unsigned char>(line[end])) || line[end] == '_')) ++end;
+  while (end < line.size() && (std::isalnum(static_cast<unsigned char>(line[end])) || line[end] == '_'))
+    ++end;
   *rest = line.substr(end);
   return line.substr(i, end - i);
 }
@@ -108,7 +110,8 @@ std::string firstIdentifier(std::string_view rest) {
   std::size_t i = rest.find_first_not_of(" \t");
   if (i == std::string_view::npos) return {};
   std::size_t end = i;
-  while (end < rest.size() && (std::isalnum(static_cast<unsigned char>(rest[end])) || rest[end] == '_')) ++end;
+  while (end < rest.size() && (std::isalnum(static_cast<unsigned char>(rest[end])) || rest[end] == '_'))
+    ++end;
   return std::string(rest.substr(i, end - i));
 }
 
@@ -131,7 +134,10 @@ class MacroState {
     tokens_.clear();
     for (std::size_t i = 0; i < expr.size();) {
       char c = expr[i];
-      if (c == ' ' || c == '\t') { ++i; continue; }
+      if (c == ' ' || c == '\t') {
+        ++i;
+        continue;
+      }
       if (expr.substr(i, 2) == "//") break;
       if (std::isalnum(static_cast<unsigned char>(c)) || c == '_') {
         std::size_t e = i;
@@ -157,18 +163,30 @@ class MacroState {
   const std::string* peek() const { return pos_ < tokens_.size() ? &tokens_[pos_] : nullptr; }
   Truth parseOr(bool& ok) const {
     Truth t = parseAnd(ok);
-    while (ok && peek() && *peek() == "||") { ++pos_; t = truthOr(t, parseAnd(ok)); }
+    while (ok && peek() && *peek() == "||") {
+      ++pos_;
+      t = truthOr(t, parseAnd(ok));
+    }
     return t;
   }
   Truth parseAnd(bool& ok) const {
     Truth t = parseUnary(ok);
-    while (ok && peek() && *peek() == "&&") { ++pos_; t = truthAnd(t, parseUnary(ok)); }
+    while (ok && peek() && *peek() == "&&") {
+      ++pos_;
+      t = truthAnd(t, parseUnary(ok));
+    }
     return t;
   }
   Truth parseUnary(bool& ok) const {
     const std::string* tok = peek();
-    if (!tok) { ok = false; return Truth::Unknown; }
-    if (*tok == "!") { ++pos_; return truthNot(parseUnary(ok)); }
+    if (!tok) {
+      ok = false;
+      return Truth::Unknown;
+    }
+    if (*tok == "!") {
+      ++pos_;
+      return truthNot(parseUnary(ok));
+    }
     if (*tok == "(") {
       ++pos_;
       Truth t = parseOr(ok);
@@ -180,7 +198,10 @@ class MacroState {
       ++pos_;
       bool paren = peek() && *peek() == "(";
       if (paren) ++pos_;
-      if (!peek()) { ok = false; return Truth::Unknown; }
+      if (!peek()) {
+        ok = false;
+        return Truth::Unknown;
+      }
       Truth t = isDefined(*peek());
       ++pos_;
       if (paren) {
@@ -218,8 +239,9 @@ class Resolver {
   void emit(const std::string& name, const std::string& includedFrom, int includeLine) {
     int index = findIndexLocked(registry_, name);
     if (index < 0) {
-      std::string where = includedFrom.empty() ? "" : " (included from " + includedFrom + ":" +
-                                                          std::to_string(includeLine) + ")";
+      std::string where = includedFrom.empty()
+                              ? ""
+                              : " (included from " + includedFrom + ":" + std::to_string(includeLine) + ")";
       throw ShaderError("shader source not found: \"" + name + "\"" + where);
     }
     const ShaderSource& src = registry_.files[static_cast<std::size_t>(index)];
@@ -236,7 +258,8 @@ class Resolver {
     std::size_t pos = 0;
     while (pos < text.size()) {
       std::size_t nl = text.find('\n', pos);
-      std::string_view line = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
+      std::string_view line =
+          text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
       pos = nl == std::string_view::npos ? text.size() : nl + 1;
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
       ++lineNo;
@@ -261,14 +284,17 @@ class Resolver {
         body_ += "\n";  // the resolver writes the one #version
       } else if (d == "extension" && active == Truth::True) {
         // #extension must precede all declarations, so it moves up to the preamble.
-        if (std::find(extensionLines_.begin(), extensionLines_.end(), std::string(line)) == extensionLines_.end()) {
+        if (std::find(extensionLines_.begin(), extensionLines_.end(), std::string(line)) ==
+            extensionLines_.end()) {
           extensionLines_.emplace_back(line);
           extensions_ += lineDirective(id, lineNo) + std::string(line) + "\n";
         }
         body_ += "\n";
       } else {
-        if (d == "define" && active != Truth::False) macros_.define(firstIdentifier(rest), active == Truth::True);
-        if (d == "undef" && active != Truth::False) macros_.undef(firstIdentifier(rest), active == Truth::True);
+        if (d == "define" && active != Truth::False)
+          macros_.define(firstIdentifier(rest), active == Truth::True);
+        if (d == "undef" && active != Truth::False)
+          macros_.undef(firstIdentifier(rest), active == Truth::True);
         body_.append(line);
         body_ += "\n";
       }
@@ -468,7 +494,8 @@ GLuint buildProgram(const std::vector<std::string>& stageFiles, const std::vecto
         std::string log(static_cast<std::size_t>(std::max(logLength, 1)), '\0');
         glGetShaderInfoLog(shader, logLength, nullptr, log.data());
         log.resize(std::char_traits<char>::length(log.c_str()));
-        throw ShaderError("compiling " + file + " (" + joinDefines(defines) + ") failed:\n" + mapShaderLog(log));
+        throw ShaderError("compiling " + file + " (" + joinDefines(defines) + ") failed:\n" +
+                          mapShaderLog(log));
       }
       labelObject(GL_SHADER, shader, file);
       glAttachShader(program, shader);

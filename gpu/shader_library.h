@@ -64,6 +64,7 @@ std::string mapShaderLog(std::string_view log);
 // xfbVaryings, glTransformFeedbackVaryings is set before linking. Returns the
 // program name (wrap it in ft::Program); throws ShaderError on failure.
 GLuint buildProgram(const std::vector<std::string>& stageFiles, const std::vector<std::string>& defines,
-                    const std::vector<std::string>& xfbVaryings = {}, GLenum xfbMode = GL_INTERLEAVED_ATTRIBS);
+                    const std::vector<std::string>& xfbVaryings = {},
+                    GLenum xfbMode = GL_INTERLEAVED_ATTRIBS);
 
 }  // namespace ft

@@ -192,8 +192,8 @@ YarnModel parseBcc(std::span<const std::byte> bytes, std::string_view sourceName
       // A zero-length segment has no tangent, so the frames (and the fibers) are undefined there.
       if (i > 0 && p == curve.points[i - 1]) {
         fail(sourceName, pointOffset,
-             curveTag + "point " + std::to_string(i) + " " + formatPoint(p) + " coincides with point " +
-                 std::to_string(i - 1));
+             curveTag + "point " + std::to_string(i) + " " + formatPoint({xyz[0], xyz[1], xyz[2]}) +
+                 " coincides with point " + std::to_string(i - 1));
       }
       curve.points[i] = p;
     }

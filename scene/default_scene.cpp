@@ -42,12 +42,25 @@ YarnModel makeDefaultScene() {
     for (int k = 0; k < 16; ++k) post.points.push_back({-0.15f, k * spacing, -0.15f});
     m.curves.push_back(post);
   }
-  {  // An open cubic Bézier S-curve (3 segments).
+  {  // An open cubic Bézier curve: a C1 S-shaped helix, built from Hermite data
+     // (B1 = P_k + T_k h/3, B2 = P_k+1 - T_k+1 h/3) so tangents match at knots.
     YarnCurve s;
     s.basis = FT_BASIS_BEZIER;
-    s.points = {{0.0f, 0.2f, -0.3f}, {0.15f, 0.35f, -0.3f}, {0.25f, 0.05f, -0.3f}, {0.4f, 0.2f, -0.3f},
-                {0.55f, 0.35f, -0.3f}, {0.65f, 0.05f, -0.3f}, {0.8f, 0.2f, -0.3f},
-                {0.9f, 0.3f, -0.25f}, {0.95f, 0.3f, -0.1f}, {1.0f, 0.2f, 0.0f}};
+    auto point = [](float u) {
+      return glm::vec3(0.9f * u, 0.2f + 0.12f * std::sin(6.0f * u), -0.3f + 0.08f * std::cos(4.0f * u));
+    };
+    auto tangent = [](float u) {
+      return glm::vec3(0.9f, 0.72f * std::cos(6.0f * u), -0.32f * std::sin(4.0f * u));
+    };
+    const int segments = 24;
+    const float h = 1.0f / segments;
+    for (int k = 0; k < segments; ++k) {
+      const float u0 = k * h, u1 = (k + 1) * h;
+      if (k == 0) s.points.push_back(point(u0));
+      s.points.push_back(point(u0) + tangent(u0) * (h / 3.0f));
+      s.points.push_back(point(u1) - tangent(u1) * (h / 3.0f));
+      s.points.push_back(point(u1));
+    }
     m.curves.push_back(s);
   }
   return m;

@@ -1,6 +1,8 @@
 // GPU infrastructure: context creation (backend from FT_GL_BACKEND), GlInfo,
 // the embedded shader library (#include, defines, error mapping), a compute
 // smoke test, and GpuTimer.
+#include "gpu/gl_context.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -10,7 +12,6 @@
 #include <vector>
 
 #include "common/constants.h"
-#include "gpu/gl_context.h"
 #include "gpu/gl_objects.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/shader_library.h"
@@ -54,8 +55,9 @@ TEST(GlBackendTest, ParsesNames) {
 
 TEST_F(GlTest, InfoIsPopulated) {
   const GlInfo& info = ctx_->info();
-  std::cout << "backend " << info.backend << ", " << info.vendor << " / " << info.renderer << " / " << info.version
-            << " / GLSL " << info.glslVersion << ", max tess level " << info.maxTessGenLevel << "\n";
+  std::cout << "backend " << info.backend << ", " << info.vendor << " / " << info.renderer << " / "
+            << info.version << " / GLSL " << info.glslVersion << ", max tess level " << info.maxTessGenLevel
+            << "\n";
   EXPECT_FALSE(info.backend.empty());
   EXPECT_FALSE(info.vendor.empty());
   EXPECT_FALSE(info.renderer.empty());
@@ -71,9 +73,7 @@ TEST_F(GlTest, InfoIsPopulated) {
   EXPECT_GE(info.maxComputeInvocations, 1024);
   EXPECT_GE(info.maxShaderStorageBufferBindings, 8);
   EXPECT_EQ(info.timerQueriesMeaningful, !info.isSoftware);
-  if (info.renderer.find("llvmpipe") != std::string::npos) {
-    EXPECT_TRUE(info.isSoftware);
-  }
+  if (info.renderer.find("llvmpipe") != std::string::npos) { EXPECT_TRUE(info.isSoftware); }
   const char* env = std::getenv("FT_GL_BACKEND");
   const std::string requested = env ? env : "";
   if (requested == "osmesa") {
@@ -205,19 +205,22 @@ TEST_F(GlTest, CompileErrorNamesOriginalFileAndLine) {
 }
 
 TEST_F(GlTest, LinkErrorThrowsShaderError) {
-  registerShaderSourceForTest("shaders/test_nomain.comp.glsl", "layout(local_size_x = 1) in;\nvoid helper() {}\n");
+  registerShaderSourceForTest("shaders/test_nomain.comp.glsl",
+                              "layout(local_size_x = 1) in;\nvoid helper() {}\n");
   try {
     Program p(buildProgram({"shaders/test_nomain.comp.glsl"}, {}));
     FAIL() << "no exception";
   } catch (const ShaderError& e) {
-    EXPECT_NE(std::string(e.what()).find("linking shaders/test_nomain.comp.glsl"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("linking shaders/test_nomain.comp.glsl"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(buildProgram({"common/lod.h"}, {}), ShaderError);  // no stage suffix
 }
 
 TEST_F(GlTest, GpuTimerMeasures) {
   GpuTimer timer(ctx_->info());
-  EXPECT_STREQ(timer.method(), ctx_->info().timerQueriesMeaningful ? "GL_TIME_ELAPSED" : "glFinish+steady_clock");
+  EXPECT_STREQ(timer.method(),
+               ctx_->info().timerQueriesMeaningful ? "GL_TIME_ELAPSED" : "glFinish+steady_clock");
   timer.begin();
   expectSmoke(runSmoke(4096, {}), 1);
   double ms = timer.endMs();

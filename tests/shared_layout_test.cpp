@@ -23,88 +23,96 @@
 namespace ft {
 namespace {
 
-// Every member, padding included, in declaration order. A member missing here
-// fails MemberCountMatches; a wrong offset or size fails OffsetsMatch.
-#define FT_YARN_PARAMS_MEMBERS(X)                                                                       \
-  X(YarnParams, plyCount) X(YarnParams, fiberCount) X(YarnParams, regularFibers)                        \
-  X(YarnParams, maxSubdivisions) X(YarnParams, plyRadius) X(YarnParams, ellipseN) X(YarnParams, ellipseB) \
-  X(YarnParams, fiberRadius) X(YarnParams, plyTurnsPerLength) X(YarnParams, fiberTurnsPerLength)        \
-  X(YarnParams, plyTwistSign) X(YarnParams, fiberTwistSign) X(YarnParams, migrationS)                   \
-  X(YarnParams, rhoMin) X(YarnParams, rhoMax) X(YarnParams, coreRadius) X(YarnParams, loopProbability)  \
-  X(YarnParams, hairProbability) X(YarnParams, loopR1Mu) X(YarnParams, loopR1Sigma)                     \
-  X(YarnParams, hairZeMu) X(YarnParams, hairZeSigma) X(YarnParams, hairR0Mu) X(YarnParams, hairR0Sigma) \
-  X(YarnParams, hairReMu) X(YarnParams, hairReSigma) X(YarnParams, hairPeMu) X(YarnParams, hairPeSigma) \
-  X(YarnParams, boundRadius) X(YarnParams, seed) X(YarnParams, pad0) X(YarnParams, pad1)
-#define FT_VIEW_PARAMS_MEMBERS(X)                                                                   \
-  X(ViewParams, viewProj) X(ViewParams, frustumPlanes) X(ViewParams, cameraPos)                     \
-  X(ViewParams, lodThresholdPx) X(ViewParams, lodEnabled) X(ViewParams, cullEnabled) X(ViewParams, pad0)
-#define FT_CONTROL_POINT_MEMBERS(X) X(ControlPoint, positionLength)
-#define FT_CURVE_INFO_MEMBERS(X)                                                                   \
-  X(CurveInfo, firstPoint) X(CurveInfo, pointCount) X(CurveInfo, closed) X(CurveInfo, firstSegment) \
-  X(CurveInfo, totalLength) X(CurveInfo, basis) X(CurveInfo, frameBase) X(CurveInfo, pad0)
-#define FT_SEGMENT_REF_MEMBERS(X) X(SegmentRef, curve) X(SegmentRef, local)
-#define FT_FRAME_NORMAL_MEMBERS(X) X(FrameNormal, normal)
-#define FT_FIBER_COORD_MEMBERS(X) X(FiberCoord, radius) X(FiberCoord, thetaTurns)
-#define FT_FIBER_VERTEX_MEMBERS(X) X(FiberVertex, position) X(FiberVertex, id)
-#define FT_SEGMENT_DECISION_MEMBERS(X)                                                                  \
-  X(SegmentDecision, lambda) X(SegmentDecision, coreHalfWidth) X(SegmentDecision, regularCount)          \
-  X(SegmentDecision, subdivisions) X(SegmentDecision, culled) X(SegmentDecision, vertexCount)            \
-  X(SegmentDecision, pad0) X(SegmentDecision, pad1)
-#define FT_DRAW_ELEMENTS_COMMAND_MEMBERS(X)                                                               \
-  X(DrawElementsCommand, count) X(DrawElementsCommand, instanceCount) X(DrawElementsCommand, firstIndex) \
-  X(DrawElementsCommand, baseVertex) X(DrawElementsCommand, baseInstance) X(DrawElementsCommand, vertexTotal) \
-  X(DrawElementsCommand, pad0) X(DrawElementsCommand, pad1)
+// Every member, padding included, in declaration order; keep in step with common/
+// (a renamed member breaks the build here, a new one fails MemberCountMatches, a
+// wrong offset or size fails OffsetsMatch).
+// clang-format off
+#define FT_YARN_PARAMS_MEMBERS(X) \
+  X(plyCount) X(fiberCount) X(regularFibers) X(maxSubdivisions) X(plyRadius) X(ellipseN) X(ellipseB) \
+  X(fiberRadius) X(plyTurnsPerLength) X(fiberTurnsPerLength) X(plyTwistSign) X(fiberTwistSign) \
+  X(migrationS) X(rhoMin) X(rhoMax) X(coreRadius) X(loopProbability) X(hairProbability) X(loopR1Mu) \
+  X(loopR1Sigma) X(hairZeMu) X(hairZeSigma) X(hairR0Mu) X(hairR0Sigma) X(hairReMu) X(hairReSigma) \
+  X(hairPeMu) X(hairPeSigma) X(boundRadius) X(seed) X(pad0) X(pad1)
+#define FT_VIEW_PARAMS_MEMBERS(X) \
+  X(viewProj) X(frustumPlanes) X(cameraPos) X(lodThresholdPx) X(lodEnabled) X(cullEnabled) X(pad0)
+#define FT_CONTROL_POINT_MEMBERS(X) X(positionLength)
+#define FT_CURVE_INFO_MEMBERS(X) \
+  X(firstPoint) X(pointCount) X(closed) X(firstSegment) X(totalLength) X(basis) X(frameBase) X(pad0)
+#define FT_SEGMENT_REF_MEMBERS(X) X(curve) X(local)
+#define FT_FRAME_NORMAL_MEMBERS(X) X(normal)
+#define FT_FIBER_COORD_MEMBERS(X) X(radius) X(thetaTurns)
+#define FT_FIBER_VERTEX_MEMBERS(X) X(position) X(id)
+#define FT_SEGMENT_DECISION_MEMBERS(X) \
+  X(lambda) X(coreHalfWidth) X(regularCount) X(subdivisions) X(culled) X(vertexCount) X(pad0) \
+  X(pad1)
+#define FT_DRAW_ELEMENTS_COMMAND_MEMBERS(X) \
+  X(count) X(instanceCount) X(firstIndex) X(baseVertex) X(baseInstance) X(vertexTotal) X(stripTotal) \
+  X(pad1)
+// clang-format on
 
 struct Member {
   const char* name;
   std::size_t offset;
   std::size_t size;
 };
-#define FT_MEMBER(T, m) Member{#m, offsetof(T, m), sizeof(T::m)},
+// Expanded where `S` names the struct.
+#define FT_MEMBER(m) Member{#m, offsetof(S, m), sizeof(S::m)},
 
 // How the probe shader exposes one struct.
 struct StructCase {
   const char* cppName;
   std::size_t size;
   std::vector<Member> members;
-  bool uniform;          // std140 uniform block with one struct member, else std430 SSBO `{ T data[]; }`
-  const char* block;     // block name
-  std::string prefix;    // resource-name prefix of the members
+  bool uniform;        // std140 uniform block with one struct member, else std430 SSBO `{ T data[]; }`
+  const char* block;   // block name
+  std::string prefix;  // resource-name prefix of the members
   GLuint binding;
 };
 
+// Uniform structs sit in `uniform <block> { T <instance>; }`, storage structs in
+// `buffer <T>Buf { T data[]; }`; `S` is the struct for FT_MEMBER.
+#define FT_UNIFORM_CASE(T, LIST, block, instance, binding)                                   \
+  [] {                                                                                       \
+    using S = T;                                                                             \
+    return StructCase{#T, sizeof(S), {LIST(FT_MEMBER)}, true, block, instance ".", binding}; \
+  }()
+#define FT_STORAGE_CASE(T, LIST, binding)                                                             \
+  [] {                                                                                                \
+    using S = T;                                                                                      \
+    return StructCase{#T, sizeof(S), {LIST(FT_MEMBER)}, false, #T "Buf", #T "Buf.data[0].", binding}; \
+  }()
+
 std::vector<StructCase> structCases() {
   return {
-      {"YarnParams", sizeof(YarnParams), {FT_YARN_PARAMS_MEMBERS(FT_MEMBER)}, true, "YarnBlock", "yarn.",
-       FT_UBO_YARN_PARAMS},
-      {"ViewParams", sizeof(ViewParams), {FT_VIEW_PARAMS_MEMBERS(FT_MEMBER)}, true, "ViewBlock", "view.",
-       FT_UBO_VIEW_PARAMS},
-      {"ControlPoint", sizeof(ControlPoint), {FT_CONTROL_POINT_MEMBERS(FT_MEMBER)}, false, "ControlPointBuf",
-       "ControlPointBuf.data[0].", FT_SSBO_CONTROL_POINTS},
-      {"CurveInfo", sizeof(CurveInfo), {FT_CURVE_INFO_MEMBERS(FT_MEMBER)}, false, "CurveInfoBuf",
-       "CurveInfoBuf.data[0].", FT_SSBO_CURVES},
-      {"SegmentRef", sizeof(SegmentRef), {FT_SEGMENT_REF_MEMBERS(FT_MEMBER)}, false, "SegmentRefBuf",
-       "SegmentRefBuf.data[0].", FT_SSBO_SEGMENTS},
-      {"FrameNormal", sizeof(FrameNormal), {FT_FRAME_NORMAL_MEMBERS(FT_MEMBER)}, false, "FrameNormalBuf",
-       "FrameNormalBuf.data[0].", FT_SSBO_FRAMES},
-      {"FiberCoord", sizeof(FiberCoord), {FT_FIBER_COORD_MEMBERS(FT_MEMBER)}, false, "FiberCoordBuf",
-       "FiberCoordBuf.data[0].", FT_SSBO_FIBER_TABLE},
-      {"FiberVertex", sizeof(FiberVertex), {FT_FIBER_VERTEX_MEMBERS(FT_MEMBER)}, false, "FiberVertexBuf",
-       "FiberVertexBuf.data[0].", FT_SSBO_VERTICES},
-      {"SegmentDecision", sizeof(SegmentDecision), {FT_SEGMENT_DECISION_MEMBERS(FT_MEMBER)}, false,
-       "SegmentDecisionBuf", "SegmentDecisionBuf.data[0].", FT_SSBO_DECISIONS},
-      {"DrawElementsCommand", sizeof(DrawElementsCommand), {FT_DRAW_ELEMENTS_COMMAND_MEMBERS(FT_MEMBER)}, false,
-       "DrawElementsCommandBuf", "DrawElementsCommandBuf.data[0].", FT_SSBO_DRAW_COMMAND},
+      FT_UNIFORM_CASE(YarnParams, FT_YARN_PARAMS_MEMBERS, "YarnBlock", "yarn", FT_UBO_YARN_PARAMS),
+      FT_UNIFORM_CASE(ViewParams, FT_VIEW_PARAMS_MEMBERS, "ViewBlock", "view", FT_UBO_VIEW_PARAMS),
+      FT_STORAGE_CASE(ControlPoint, FT_CONTROL_POINT_MEMBERS, FT_SSBO_CONTROL_POINTS),
+      FT_STORAGE_CASE(CurveInfo, FT_CURVE_INFO_MEMBERS, FT_SSBO_CURVES),
+      FT_STORAGE_CASE(SegmentRef, FT_SEGMENT_REF_MEMBERS, FT_SSBO_SEGMENTS),
+      FT_STORAGE_CASE(FrameNormal, FT_FRAME_NORMAL_MEMBERS, FT_SSBO_FRAMES),
+      FT_STORAGE_CASE(FiberCoord, FT_FIBER_COORD_MEMBERS, FT_SSBO_FIBER_TABLE),
+      FT_STORAGE_CASE(FiberVertex, FT_FIBER_VERTEX_MEMBERS, FT_SSBO_VERTICES),
+      FT_STORAGE_CASE(SegmentDecision, FT_SEGMENT_DECISION_MEMBERS, FT_SSBO_DECISIONS),
+      FT_STORAGE_CASE(DrawElementsCommand, FT_DRAW_ELEMENTS_COMMAND_MEMBERS, FT_SSBO_DRAW_COMMAND),
   };
 }
 
 // Bytes of one GL type as a C++ member holding it (glm types are tightly packed).
 std::size_t glTypeSize(GLint type) {
   switch (type) {
-    case GL_FLOAT: case GL_INT: case GL_UNSIGNED_INT: case GL_BOOL: return 4;
-    case GL_FLOAT_VEC2: case GL_INT_VEC2: case GL_UNSIGNED_INT_VEC2: return 8;
-    case GL_FLOAT_VEC3: case GL_INT_VEC3: case GL_UNSIGNED_INT_VEC3: return 12;
-    case GL_FLOAT_VEC4: case GL_INT_VEC4: case GL_UNSIGNED_INT_VEC4: return 16;
+    case GL_FLOAT:
+    case GL_INT:
+    case GL_UNSIGNED_INT:
+    case GL_BOOL: return 4;
+    case GL_FLOAT_VEC2:
+    case GL_INT_VEC2:
+    case GL_UNSIGNED_INT_VEC2: return 8;
+    case GL_FLOAT_VEC3:
+    case GL_INT_VEC3:
+    case GL_UNSIGNED_INT_VEC3: return 12;
+    case GL_FLOAT_VEC4:
+    case GL_INT_VEC4:
+    case GL_UNSIGNED_INT_VEC4: return 16;
     case GL_FLOAT_MAT4: return 64;
     default: return 0;
   }
@@ -163,11 +171,14 @@ TEST_F(SharedLayoutTest, MemberCountMatches) {
   for (const StructCase& s : structCases()) {
     GLuint block = glGetProgramResourceIndex(program_.id(), blockInterface(s), s.block);
     ASSERT_NE(block, GL_INVALID_INDEX) << s.block << " is not active in the probe";
-    EXPECT_EQ(property(blockInterface(s), block, GL_NUM_ACTIVE_VARIABLES), static_cast<GLint>(s.members.size()))
+    EXPECT_EQ(property(blockInterface(s), block, GL_NUM_ACTIVE_VARIABLES),
+              static_cast<GLint>(s.members.size()))
         << s.cppName << ": GL sees a different member count than the C++ list";
-    EXPECT_EQ(property(blockInterface(s), block, GL_BUFFER_BINDING), static_cast<GLint>(s.binding)) << s.block;
+    EXPECT_EQ(property(blockInterface(s), block, GL_BUFFER_BINDING), static_cast<GLint>(s.binding))
+        << s.block;
     if (s.uniform) {
-      EXPECT_EQ(property(blockInterface(s), block, GL_BUFFER_DATA_SIZE), static_cast<GLint>(s.size)) << s.cppName;
+      EXPECT_EQ(property(blockInterface(s), block, GL_BUFFER_DATA_SIZE), static_cast<GLint>(s.size))
+          << s.cppName;
     }
   }
   glCheck("MemberCountMatches");
@@ -188,7 +199,8 @@ TEST_F(SharedLayoutTest, OffsetsMatch) {
       GLint type = property(iface, index, GL_TYPE);
       if (name.back() == ']') {
         // An array member: the whole array must occupy exactly the C++ member.
-        EXPECT_EQ(static_cast<std::size_t>(arraySize * property(iface, index, GL_ARRAY_STRIDE)), m.size) << where;
+        EXPECT_EQ(static_cast<std::size_t>(arraySize * property(iface, index, GL_ARRAY_STRIDE)), m.size)
+            << where;
         EXPECT_EQ(static_cast<std::size_t>(arraySize) * glTypeSize(type), m.size) << where;
       } else {
         EXPECT_EQ(glTypeSize(type), m.size) << where << " GL type 0x" << std::hex << type;

@@ -34,8 +34,7 @@ ValidationContext::ValidationContext(HarnessOptions options) : options_(std::mov
   }
   context_ = GlContext::create(options_.backend);
   const GlInfo& gi = context_->info();
-  fiberGpu_ = std::make_unique<FiberGpu>(defines, gi.maxTessGenLevel, gi.maxComputeWorkGroupCount[1],
-                                         gi.maxComputeWorkGroupCount[2]);
+  fiberGpu_ = std::make_unique<FiberGpu>(gi, defines);
   std::filesystem::create_directories(options_.reportDir / "images");
 }
 

@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
       else throw ft::InputError(fmt::format("--distance: '{}' is not frame, near, mid or far", distance));
       auto ctx = ft::GlContext::create(parseBackend(backend));
       const ft::GlInfo& g = ctx->info();
-      ft::FiberGpu gpu({}, g.maxTessGenLevel, g.maxComputeWorkGroupCount[1], g.maxComputeWorkGroupCount[2]);
+      ft::FiberGpu gpu(g);
       gpu.setModel(buffers, table);
       gpu.setParams(params, ft::makeViewParams(cam, 1.0f, true, true));
       ft::RenderStyle style;

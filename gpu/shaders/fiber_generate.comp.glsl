@@ -1,23 +1,31 @@
-// Compute path, pass 3: one invocation per (listed segment, ply, fiber slot)
-// writes that fiber's vertices in canonical order and its line-strip indices.
-// Segments run along work-group y and z (each at most 65,535 on llvmpipe).
+// Compute path, pass 3: one invocation per fiber strip (listed segment, ply,
+// fiber slot) of the visible segments — the strips are numbered by the scan,
+// so no invocation idles on culled segments or dropped LoD fibers. Each
+// writes its fiber's vertices in canonical order and its line-strip indices.
 #include "shaders/fiber_resources.glsl"
 
 layout(local_size_x = FT_WG_GENERATE) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
-layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec2 offsets[]; };
+layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, 0)
 layout(std430, binding = FT_SSBO_VERTICES) writeonly buffer VertexBuffer { FiberVertex vertices[]; };
 layout(std430, binding = FT_SSBO_INDICES) writeonly buffer IndexBuffer { uint indices[]; };
 uniform uint listCount;
-uniform uint groupsY;  // work groups along y per z slice
+uniform uint stripTotal;
+uniform uint groupsX;  // work groups along x per y row
 
 void main() {
-  uint i = gl_WorkGroupID.y + gl_WorkGroupID.z * groupsY;
-  if (i >= listCount) return;
+  uint global = (gl_WorkGroupID.y * groupsX + gl_WorkGroupID.x) * FT_WG_GENERATE + gl_LocalInvocationID.x;
+  if (global >= stripTotal) return;
+  // The listed segment owning this strip: last i with offsets[i].z <= global.
+  uint lo = 0u, hi = listCount - 1u;
+  while (lo < hi) {
+    uint mid = (lo + hi + 1u) / 2u;
+    if (offsets[mid].z <= global) lo = mid; else hi = mid - 1u;
+  }
+  uint i = lo;
   SegmentDecision d = decisions[i];
   uint slotsPerPly = ftSlotsPerPly(d);
-  uint strip = gl_GlobalInvocationID.x;
-  if (d.culled != 0u || strip >= yarn.plyCount * slotsPerPly) return;
+  uint strip = global - offsets[i].z;
   uint ply = strip / slotsPerPly;
   uint slot = strip % slotsPerPly;
   uint segment = segmentList[i];

@@ -9,18 +9,18 @@
 
 layout(local_size_x = FT_WG_SCAN) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
-layout(std430, binding = FT_SSBO_OFFSETS) writeonly buffer OffsetBuffer { uvec2 offsets[]; };  // (vertex, index)
+layout(std430, binding = FT_SSBO_OFFSETS) writeonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, 0)
 layout(std430, binding = FT_SSBO_DRAW_COMMAND) writeonly buffer DrawBuffer { DrawElementsCommand draw; };
 layout(std140, binding = FT_UBO_YARN_PARAMS) uniform YarnBlock { YarnParams yarn; };
 uniform uint listCount;
 
-shared uvec2 partial[FT_WG_SCAN];
+shared uvec4 partial[FT_WG_SCAN];
 
-uvec2 counts(uint i) {
+uvec4 counts(uint i) {
   SegmentDecision d = decisions[i];
   // One restart index after each fiber strip.
   uint strips = d.culled != 0u ? 0u : yarn.plyCount * (1u + d.regularCount);
-  return uvec2(d.vertexCount, strips * (d.subdivisions + 2u));
+  return uvec4(d.vertexCount, strips * (d.subdivisions + 2u), strips, 0u);
 }
 
 void main() {
@@ -28,17 +28,17 @@ void main() {
   uint chunk = (listCount + FT_WG_SCAN - 1u) / FT_WG_SCAN;
   uint begin = min(lane * chunk, listCount);
   uint end = min(begin + chunk, listCount);
-  uvec2 sum = uvec2(0u);
+  uvec4 sum = uvec4(0u);
   for (uint i = begin; i < end; ++i) sum += counts(i);
   partial[lane] = sum;
   barrier();
   for (uint stride = 1u; stride < FT_WG_SCAN; stride <<= 1u) {
-    uvec2 add = lane >= stride ? partial[lane - stride] : uvec2(0u);
+    uvec4 add = lane >= stride ? partial[lane - stride] : uvec4(0u);
     barrier();
     partial[lane] += add;
     barrier();
   }
-  uvec2 running = partial[lane] - sum;  // exclusive
+  uvec4 running = partial[lane] - sum;  // exclusive
   for (uint i = begin; i < end; ++i) {
     offsets[i] = running;
     running += counts(i);
@@ -50,7 +50,7 @@ void main() {
     draw.baseVertex = 0u;
     draw.baseInstance = 0u;
     draw.vertexTotal = partial[lane].x;
-    draw.pad0 = 0u;
+    draw.stripTotal = partial[lane].z;
     draw.pad1 = 0u;
   }
 }

@@ -32,6 +32,10 @@ void main() {
   if (dot(side0, side0) <= 1e-12 || dot(side1, side1) <= 1e-12) return;  // looking down the fiber
   side0 = normalize(side0) * fiberPosition[0].w;
   side1 = normalize(side1) * fiberPosition[1].w;
+  // Overlap neighbouring quads by half a width so a curving strip shows no
+  // wedge-shaped gaps at the joints (the depth test hides the overlap).
+  p0 -= t * (0.5 * fiberPosition[0].w);
+  p1 += t * (0.5 * fiberPosition[1].w);
   vec3 corners[4] = vec3[4](p0 - side0, p0 + side0, p1 - side1, p1 + side1);
   for (int i = 0; i < 4; ++i) {
     stripTangent = t;

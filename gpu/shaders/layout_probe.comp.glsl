@@ -14,14 +14,18 @@ layout(local_size_x = 1) in;
 layout(std140, binding = FT_UBO_YARN_PARAMS) uniform YarnBlock { YarnParams yarn; };
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
 
-layout(std430, binding = FT_SSBO_CONTROL_POINTS) buffer ControlPointBuf { ControlPoint data[]; } controlPoints;
+layout(std430, binding = FT_SSBO_CONTROL_POINTS) buffer ControlPointBuf {
+  ControlPoint data[];
+} controlPoints;
 layout(std430, binding = FT_SSBO_CURVES) buffer CurveInfoBuf { CurveInfo data[]; } curves;
 layout(std430, binding = FT_SSBO_SEGMENTS) buffer SegmentRefBuf { SegmentRef data[]; } segments;
 layout(std430, binding = FT_SSBO_FRAMES) buffer FrameNormalBuf { FrameNormal data[]; } frames;
 layout(std430, binding = FT_SSBO_FIBER_TABLE) buffer FiberCoordBuf { FiberCoord data[]; } fiberTable;
 layout(std430, binding = FT_SSBO_VERTICES) buffer FiberVertexBuf { FiberVertex data[]; } vertices;
 layout(std430, binding = FT_SSBO_DECISIONS) buffer SegmentDecisionBuf { SegmentDecision data[]; } decisions;
-layout(std430, binding = FT_SSBO_DRAW_COMMAND) buffer DrawElementsCommandBuf { DrawElementsCommand data[]; } commands;
+layout(std430, binding = FT_SSBO_DRAW_COMMAND) buffer DrawElementsCommandBuf {
+  DrawElementsCommand data[];
+} commands;
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;

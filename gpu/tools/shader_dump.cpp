@@ -48,11 +48,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> defines;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    if (a == "--out" && i + 1 < argc) outDir = argv[++i];
-    else if (a == "--define" && i + 1 < argc) defines.push_back(argv[++i]);
-    else if (a == "--map-log" && i + 1 < argc) mapLog = argv[++i];
-    else if (a == "--list") list = true;
-    else return usage();
+    if (a == "--out" && i + 1 < argc)
+      outDir = argv[++i];
+    else if (a == "--define" && i + 1 < argc)
+      defines.push_back(argv[++i]);
+    else if (a == "--map-log" && i + 1 < argc)
+      mapLog = argv[++i];
+    else if (a == "--list")
+      list = true;
+    else
+      return usage();
   }
   try {
     if (list) {

@@ -1,0 +1,274 @@
+// Unit tests of the shared fiber math in common/ (compiled as C++ here; the
+// GPU compiles the same text). Each tolerance says why.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "common/fiber_generation.h"
+#include "common/lod.h"
+#include "common/yarn_frame.h"
+#include "reference/fiber_reference.h"
+#include "scene/camera.h"
+#include "scene/default_scene.h"
+#include "scene/yarn_fibers.h"
+
+namespace ft {
+namespace {
+
+struct SceneData {
+  YarnModel model;
+  YarnBuffers buffers;
+  std::vector<FrameNormal> frames;
+  explicit SceneData(YarnModel m) : model(std::move(m)), buffers(buildYarnBuffers(model)), frames(computeKnotFramesCpu(buffers)) {}
+};
+
+const SceneData& defaultSetup() {
+  static const SceneData s(makeDefaultScene());
+  return s;
+}
+
+YarnParams paramsFor(const char* yarn, std::vector<FiberCoord>* tableOut = nullptr) {
+  const YarnPreset& p = findYarnPreset(yarn);
+  std::vector<FiberCoord> table = makeFiberTable(p, 1);
+  YarnParams params = makeYarnParams(p, table, FiberOptions{});
+  if (tableOut) *tableOut = table;
+  return params;
+}
+
+TEST(YarnCurve, CatmullRomToBezierMatchesDirectEvaluation) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int trial = 0; trial < 100; ++trial) {
+    vec3 p[4];
+    for (vec3& q : p) q = vec3(u(rng), u(rng), u(rng));
+    CurveInfo c{0, 4, 0, 0, 1.0f, FT_BASIS_CATMULL_ROM, 0, 0};
+    SegmentIndices idx = ftSegmentIndices(c, 1);
+    ASSERT_EQ(idx.i0, 0u);
+    ASSERT_EQ(idx.i3, 3u);
+    YarnSegment seg = ftMakeSegment(c, 1, idx, vec4(p[0], 0), vec4(p[1], 0), vec4(p[2], 0), vec4(p[3], 0));
+    for (float t = 0.0f; t <= 1.0f; t += 0.125f) {
+      // Two float evaluations of one cubic with |p| <= 1: agree to ~1e-6.
+      EXPECT_LT(glm::length(ftBezierPoint(seg, t) - ftCatmullRomPoint(p[0], p[1], p[2], p[3], t)), 2e-6f);
+    }
+  }
+}
+
+TEST(YarnCurve, OpenEndsReflectAndClosedCurvesWrap) {
+  CurveInfo open{10, 5, 0, 0, 1.0f, FT_BASIS_CATMULL_ROM, 0, 0};
+  EXPECT_EQ(ftCurveSegmentCount(open), 4u);
+  SegmentIndices first = ftSegmentIndices(open, 0), last = ftSegmentIndices(open, 3);
+  EXPECT_EQ(first.reflectStart, 1u);
+  EXPECT_EQ(first.i1, 10u);
+  EXPECT_EQ(last.reflectEnd, 1u);
+  EXPECT_EQ(last.i2, 14u);
+  CurveInfo closed{10, 5, 1, 0, 1.0f, FT_BASIS_CATMULL_ROM, 0, 0};
+  EXPECT_EQ(ftCurveSegmentCount(closed), 5u);
+  SegmentIndices wrap = ftSegmentIndices(closed, 4);
+  EXPECT_EQ(wrap.i0, 13u);
+  EXPECT_EQ(wrap.i1, 14u);
+  EXPECT_EQ(wrap.i2, 10u);
+  EXPECT_EQ(wrap.i3, 11u);
+  // Reflection keeps the end tangent along the chord.
+  YarnSegment s = ftMakeSegment(open, 0, first, vec4(0), vec4(0, 0, 0, 0), vec4(1, 0, 0, 1), vec4(2, 1, 0, 2));
+  vec3 d = ftBezierDerivative(s, 0.0f);
+  EXPECT_NEAR(d.y, 0.0f, 1e-7f);
+  EXPECT_NEAR(d.z, 0.0f, 1e-7f);
+}
+
+// Frame along every segment: unit, ⟂ T, right-handed, and continuous at knots.
+TEST(YarnFrame, OrthonormalAndContinuousAtKnots) {
+  const SceneData& s = defaultSetup();
+  for (size_t ci = 0; ci < s.buffers.curves.size(); ++ci) {
+    const CurveInfo& c = s.buffers.curves[ci];
+    for (uint32_t k = 0; k < ftCurveSegmentCount(c); ++k) {
+      const YarnSegment seg = loadSegmentCpu(s.buffers, s.frames, c.firstSegment + k);
+      for (float t = 0.0f; t <= 1.0f; t += 0.25f) {
+        YarnFrame f = ftYarnFrameAt(seg, t);
+        EXPECT_NEAR(glm::length(f.N), 1.0f, 1e-5f);  // a few ulps from sqrt-normalize
+        EXPECT_NEAR(glm::dot(f.N, f.T), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::dot(glm::cross(f.T, f.N), f.B), 1.0f, 1e-5f);
+      }
+      const bool hasNext = k + 1 < ftCurveSegmentCount(c);
+      if (hasNext || c.closed) {
+        const YarnSegment next = loadSegmentCpu(s.buffers, s.frames, c.firstSegment + (hasNext ? k + 1 : 0));
+        YarnFrame a = ftYarnFrameAt(seg, 1.0f), b = ftYarnFrameAt(next, 0.0f);
+        // Same knot, same normal; tangents equal up to float rounding of two
+        // algebraically equal Bézier differences: 1e-4 rad is far below one
+        // twist step (~10°).
+        EXPECT_LT(glm::length(a.N - b.N), 1e-4f) << "curve " << ci << " knot " << k + 1;
+        EXPECT_LT(glm::length(a.center - b.center), 1e-6f);
+      }
+    }
+  }
+}
+
+// A rotation-minimizing frame does not rotate about a straight yarn, even
+// when it points straight up (where an up-vector frame is undefined).
+TEST(YarnFrame, StraightVerticalYarnHasConstantFrame) {
+  YarnModel m;
+  m.name = "vertical";
+  YarnCurve c;
+  for (int i = 0; i < 20; ++i) c.points.push_back(vec3(0.0f, 0.03f * i, 0.0f));
+  m.curves.push_back(c);
+  SceneData s(m);
+  for (const FrameNormal& n : s.frames) EXPECT_LT(glm::length(vec3(n.normal) - vec3(s.frames[0].normal)), 1e-6f);
+}
+
+// On a planar curve the RMF normal keeps a constant angle to the plane.
+TEST(YarnFrame, PlanarCurveNormalKeepsItsAngleToThePlane) {
+  YarnModel m;
+  m.name = "planar";
+  YarnCurve c;
+  for (int i = 0; i < 80; ++i) {
+    float a = 0.05f * i;
+    c.points.push_back(vec3(std::cos(a) * (1.0f + 0.3f * a), 0.0f, std::sin(a) * (1.0f + 0.3f * a)));
+  }
+  m.curves.push_back(c);
+  SceneData s(m);
+  const float first = glm::dot(vec3(s.frames[0].normal), vec3(0, 1, 0));
+  for (const FrameNormal& n : s.frames) EXPECT_NEAR(glm::dot(vec3(n.normal), vec3(0, 1, 0)), first, 1e-4f);
+}
+
+// Fibers are continuous from one segment into the next, including across the
+// seam of a closed yarn (whole-turn twist rates).
+TEST(FiberGeometry, FibersAreContinuousAcrossSegmentsAndSeams) {
+  const SceneData& s = defaultSetup();
+  std::vector<FiberCoord> table;
+  const YarnParams p = paramsFor("cotton1", &table);
+  SegmentDecision d{1.0f, 0.01f, p.regularFibers, 4, 0, 0, 0, 0};
+  for (size_t ci = 0; ci < s.buffers.curves.size(); ++ci) {
+    const CurveInfo& c = s.buffers.curves[ci];
+    const TwistRates r = ftTwistRates(p, c);
+    const uint32_t n = ftCurveSegmentCount(c);
+    for (uint32_t k = 0; k < n; ++k) {
+      if (k + 1 == n && !c.closed) break;
+      const uint32_t a = c.firstSegment + k, b = c.firstSegment + (k + 1) % n;
+      const YarnSegment sa = loadSegmentCpu(s.buffers, s.frames, a), sb = loadSegmentCpu(s.buffers, s.frames, b);
+      for (uint32_t ply = 0; ply < p.plyCount; ++ply)
+        for (uint32_t slot = 0; slot <= p.regularFibers; ++slot) {
+          const FiberCoord fc = slot ? table[ftSlotFiber(p, slot)] : FiberCoord{0, 0};
+          FiberVertex end = ftFiberVertex(p, r, sa, d, uint(ci), a, ply, slot, fc, 4);
+          FiberVertex start = ftFiberVertex(p, r, sb, d, uint(ci), b, ply, slot, fc, 0);
+          const bool hair = (end.id.w & 0xFFu) == FT_FIBER_HAIR || (start.id.w & 0xFFu) == FT_FIBER_HAIR;
+          if (hair && (end.id.w >> 16) != (start.id.w >> 16)) continue;  // a hair's free end at a period start
+          // Same length coordinate up to one rounding of s0 + 1·(s1 - s0):
+          // 1e-3 of a fiber radius.
+          EXPECT_LT(glm::length(vec3(end.position) - vec3(start.position)), 1e-3f * p.fiberRadius)
+              << "curve " << ci << " segments " << a << "→" << b << " ply " << ply << " slot " << slot;
+        }
+    }
+  }
+}
+
+// Every fiber point stays within boundRadius of the yarn centre curve (the
+// frustum test relies on it), for all presets and all fiber types.
+TEST(FiberGeometry, FibersStayWithinTheBoundRadius) {
+  const SceneData& s = defaultSetup();
+  for (const YarnPreset& preset : builtinYarnPresets()) {
+    std::vector<FiberCoord> table;
+    const YarnParams p = paramsFor(preset.name.c_str(), &table);
+    SegmentDecision d{1.0f, 0.0f, p.regularFibers, 8, 0, 0, 0, 0};
+    double worst = 0.0;
+    for (uint32_t seg = 0; seg < s.buffers.segments.size(); seg += 3) {
+      const YarnSegment ys = loadSegmentCpu(s.buffers, s.frames, seg);
+      const TwistRates r = ftTwistRates(p, s.buffers.curves[s.buffers.segments[seg].curve]);
+      for (uint32_t ply = 0; ply < p.plyCount; ++ply)
+        for (uint32_t slot = 1; slot <= p.regularFibers; ++slot)
+          for (uint32_t v = 0; v <= 8; ++v) {
+            FiberVertex fv = ftFiberVertex(p, r, ys, d, 0, seg, ply, slot, table[ftSlotFiber(p, slot)], v);
+            const vec3 c = ftBezierPoint(ys, float(v) / 8.0f);
+            worst = std::max(worst, double(glm::length(vec3(fv.position) - c)) + fv.position.w);
+          }
+    }
+    EXPECT_LE(worst, p.boundRadius) << preset.name;
+    EXPECT_GT(worst, 0.3 * p.boundRadius) << preset.name << ": the bound is far from tight";
+  }
+}
+
+// Loop and hair periods occur with the probabilities YarnParams states
+// (binomial, 5σ: fails by chance with probability < 1e-6).
+TEST(FiberGeometry, PeriodTypeFrequenciesMatchTheirProbabilities) {
+  const YarnParams p = paramsFor("cotton1");
+  TwistRates r{p.plyTurnsPerLength, p.fiberTurnsPerLength, p.fiberTurnsPerLength * p.migrationS, 0u};
+  const int n = 40000;
+  int loops = 0, hairs = 0;
+  for (int i = 0; i < n; ++i) {
+    FiberCoord fc{0.9f, 0.0f};
+    const float s = (float(i % 400) + 0.25f) / r.migration;  // period i%400 of fiber i/400
+    FiberPeriod fp = ftFiberPeriod(p, r, s, 3u, 0u, uint(i / 400), fc);
+    loops += fp.type == FT_FIBER_LOOP;
+    hairs += fp.type == FT_FIBER_HAIR;
+  }
+  auto check = [&](int count, double prob, const char* what) {
+    const double mean = n * prob, sigma = std::sqrt(n * prob * (1.0 - prob));
+    EXPECT_NEAR(count, mean, 5.0 * sigma) << what;
+  };
+  check(loops, p.loopProbability, "loops");
+  check(hairs, p.hairProbability, "hairs");
+}
+
+// Eq. 4: λ is 1 and 0 on its outer branches and continuous where they meet
+// the middle one.
+TEST(Lod, LambdaFollowsEquation4AndIsContinuous) {
+  const float fiber = 0.05f, ply = 1.5f;
+  EXPECT_EQ(ftLodLambda(fiber, ply, 0.04f), 1.0f);
+  EXPECT_EQ(ftLodLambda(fiber, ply, 2.0f), 0.0f);
+  EXPECT_NEAR(ftLodLambda(fiber, ply, fiber * 1.0001f), 1.0f, 1e-3f);
+  EXPECT_NEAR(ftLodLambda(fiber, ply, ply * 0.9999f), 0.0f, 1e-3f);
+  float previous = 1.0f;
+  for (float w = fiber; w <= ply; w *= 1.05f) {
+    const float l = ftLodLambda(fiber, ply, w);
+    EXPECT_LE(l, previous + 1e-7f);  // monotonic: a coarser threshold never adds detail
+    previous = l;
+  }
+}
+
+// Culling is conservative: no fiber point of a culled segment is inside the
+// view frustum.
+TEST(Lod, CulledSegmentsHaveNoVisibleFiberPoint) {
+  const SceneData& s = defaultSetup();
+  std::vector<FiberCoord> table;
+  const YarnParams p = paramsFor("rayon1", &table);
+  int culledSegments = 0;
+  for (LodDistance dist : {LodDistance::Near, LodDistance::Mid}) {
+    const Camera cam = lodCamera(s.model, p, dist, 1.0f, 640, 480);
+    const ViewParams v = makeViewParams(cam, 1.0f, true, true);
+    for (uint32_t seg = 0; seg < s.buffers.segments.size(); ++seg) {
+      const YarnSegment ys = loadSegmentCpu(s.buffers, s.frames, seg);
+      if (!ftSegmentOutsideFrustum(v, ys, p.boundRadius)) continue;
+      ++culledSegments;
+      SegmentDecision d{1.0f, p.ellipseB, p.regularFibers, 8, 0, 0, 0, 0};
+      const TwistRates r = ftTwistRates(p, s.buffers.curves[s.buffers.segments[seg].curve]);
+      for (uint32_t ply = 0; ply < p.plyCount; ++ply)
+        for (uint32_t slot = 0; slot <= p.regularFibers; ++slot)
+          for (uint32_t k = 0; k <= 8; ++k) {
+            const FiberCoord fc = slot ? table[ftSlotFiber(p, slot)] : FiberCoord{0, 0};
+            const vec3 q = vec3(ftFiberVertex(p, r, ys, d, 0, seg, ply, slot, fc, k).position);
+            bool inside = true;
+            for (const vec4& pl : v.frustumPlanes) inside = inside && glm::dot(vec3(pl), q) + pl.w >= 0.0f;
+            EXPECT_FALSE(inside) << "segment " << seg << " was culled but a fiber point is visible";
+          }
+    }
+  }
+  EXPECT_GT(culledSegments, 10) << "the test views cull too little to test anything";
+}
+
+// Fiber-table rows: sorted by R, inside the unit disk, θ in [0, 1).
+TEST(FiberTable, SortedInsideTheDiskAndDeterministic) {
+  for (const YarnPreset& preset : builtinYarnPresets()) {
+    const std::vector<FiberCoord> a = makeFiberTable(preset, 1), b = makeFiberTable(preset, 1);
+    ASSERT_EQ(a.size(), static_cast<size_t>(preset.fiberNum));
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].radius, b[i].radius);
+      EXPECT_GE(a[i].radius, 0.0f);
+      EXPECT_LE(a[i].radius, preset.rMax);
+      EXPECT_GE(a[i].thetaTurns, 0.0f);
+      EXPECT_LT(a[i].thetaTurns, 1.0f);
+      if (i) EXPECT_LE(a[i - 1].radius, a[i].radius);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ft
