@@ -22,12 +22,14 @@
 #define FT_SSBO_DRAW_COMMAND 9
 #define FT_SSBO_SEGMENT_LIST 10
 #define FT_SSBO_LAYOUT_PROBE 11
+#define FT_SSBO_SAMPLES 12
 
 // Work-group sizes (local_size_x).
 #define FT_WG_FRAMES 64
 #define FT_WG_DECIDE 64
 #define FT_WG_SCAN 1024
 #define FT_WG_GENERATE 64
+#define FT_WG_SAMPLES 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

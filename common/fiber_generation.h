@@ -38,28 +38,91 @@ FT_FUNC float ftLengthAt(YarnSegment seg, float t) {
   return s;
 }
 
-// `fc` is the fiber-table row ftSlotFiber(p, slot) for a regular slot and is
-// ignored for the core (slot 0).
-FT_FUNC FiberVertex ftFiberVertex(YarnParams p, TwistRates r, YarnSegment seg, SegmentDecision d, uint yarn,
-                                  uint segment, uint ply, uint slot, FiberCoord fc, uint vertex) {
+// Per-strip memo of the last period's random draws: consecutive vertices of
+// a fiber usually share a period, and the draws (three hashes, four normal
+// deviates) are the most expensive part of a vertex. Purely an optimization:
+// ftFiberPeriod is a pure function, so the vertices are the same with or
+// without it.
+struct PeriodCache {
+  uint valid;
+  uint index;
+  FiberPeriod period;
+};
+
+FT_FUNC PeriodCache ftEmptyPeriodCache() {
+  PeriodCache c;
+  c.valid = 0u;
+  c.index = 0u;
+  c.period.type = FT_FIBER_MIGRATION;
+  c.period.loopRhoMax = 0.0f;
+  c.period.hairRadius = 0.0f;
+  c.period.hairSpan = 0.0f;
+  c.period.hairAngle = 0.0f;
+  c.period.hairAtEnd = 0u;
+  return c;
+}
+
+struct CachedFiberVertex {
+  FiberVertex vertex;
+  PeriodCache cache;
+};
+
+FT_FUNC YarnSample ftYarnSample(YarnSegment seg, SegmentDecision d, uint vertex) {
   FT_PRECISE float t = float(vertex) / float(d.subdivisions);
   YarnFrame f = ftYarnFrameAt(seg, t);
-  float s = ftLengthAt(seg, t);
-  FiberVertex out_;
-  out_.id.x = yarn;
-  out_.id.y = segment;
-  if (slot == 0u) {
-    out_.position = vec4(ftCorePosition(p, r, f, s, ply), d.coreHalfWidth);
-    out_.id.z = ftPackFiberId(ply, FT_CORE_FIBER_ID);
-    out_.id.w = ftPackTypeVertex(FT_FIBER_CORE, vertex, 0u);
-  } else {
-    uint fiber = ftSlotFiber(p, slot);
-    FiberSample fs = ftFiberSample(p, r, f, s, yarn, ply, fiber, fc);
-    out_.position = vec4(fs.position, p.fiberRadius);
-    out_.id.z = ftPackFiberId(ply, fiber);
-    out_.id.w = ftPackTypeVertex(fs.type, vertex, fs.period);
+  YarnSample ys;
+  ys.centerLength = vec4(f.center, ftLengthAt(seg, t));
+  ys.tangent = vec4(f.T, 0.0f);
+  ys.normal = vec4(f.N, 0.0f);
+  ys.binormal = vec4(f.B, 0.0f);
+  return ys;
+}
+
+// `fc` is the fiber-table row ftSlotFiber(p, slot) for a regular slot and is
+// ignored for the core (slot 0).
+FT_FUNC CachedFiberVertex ftFiberVertexAt(YarnParams p, TwistRates r, YarnSample ys, SegmentDecision d,
+                                          uint yarn, uint segment, uint ply, uint slot, FiberCoord fc, uint vertex,
+                                          PeriodCache cache) {
+  YarnFrame f;
+  f.center = vec3(ys.centerLength);
+  f.T = vec3(ys.tangent);
+  f.N = vec3(ys.normal);
+  f.B = vec3(ys.binormal);
+  float s = ys.centerLength.w;
+  PlyFrame pf = ftPlyFrame(p, r, f, s, ply);
+  CachedFiberVertex out_;
+  out_.cache = cache;
+  out_.vertex.id.x = yarn;
+  out_.vertex.id.y = segment;
+  if (slot == 0u) {  // the core fiber runs along the ply centre (§3.2)
+    out_.vertex.position = vec4(f.center + pf.offset, d.coreHalfWidth);
+    out_.vertex.id.z = ftPackFiberId(ply, FT_CORE_FIBER_ID);
+    out_.vertex.id.w = ftPackTypeVertex(FT_FIBER_CORE, vertex, 0u);
+    return out_;
   }
+  uint fiber = ftSlotFiber(p, slot);
+  PeriodPhase ph = ftPeriodPhase(r, s, fc);
+  if (cache.valid == 0u || cache.index != ph.index) {
+    out_.cache.valid = 1u;
+    out_.cache.index = ph.index;
+    out_.cache.period = ftFiberPeriod(p, r, yarn, ply, fiber, ph.index);
+  }
+  out_.vertex.position = vec4(ftFiberPosition(p, r, f, pf, s, fc, ph, out_.cache.period), p.fiberRadius);
+  out_.vertex.id.z = ftPackFiberId(ply, fiber);
+  out_.vertex.id.w = ftPackTypeVertex(out_.cache.period.type, vertex, ph.index);
   return out_;
+}
+
+FT_FUNC CachedFiberVertex ftFiberVertexCached(YarnParams p, TwistRates r, YarnSegment seg, SegmentDecision d,
+                                              uint yarn, uint segment, uint ply, uint slot, FiberCoord fc,
+                                              uint vertex, PeriodCache cache) {
+  return ftFiberVertexAt(p, r, ftYarnSample(seg, d, vertex), d, yarn, segment, ply, slot, fc, vertex, cache);
+}
+
+// One vertex on its own (the tessellation evaluation shader's case).
+FT_FUNC FiberVertex ftFiberVertex(YarnParams p, TwistRates r, YarnSegment seg, SegmentDecision d, uint yarn,
+                                  uint segment, uint ply, uint slot, FiberCoord fc, uint vertex) {
+  return ftFiberVertexCached(p, r, seg, d, yarn, segment, ply, slot, fc, vertex, ftEmptyPeriodCache()).vertex;
 }
 
 FT_NAMESPACE_END

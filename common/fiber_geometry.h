@@ -79,11 +79,29 @@ FT_FUNC float ftMigrationRadius(YarnParams p, float radiusI, float rhoMax, float
   return radiusI * (p.rhoMin + (rhoMax - p.rhoMin) * 0.5f * (1.0f - cos(FT_TWO_PI * f)));
 }
 
-// Everything random about one period of one fiber.
+// Where a length coordinate falls in a fiber's migration periods. Exact
+// operations only, so both sides agree on the index bit for bit.
+struct PeriodPhase {
+  uint index;      // period index (wrapped on closed curves)
+  float fraction;  // position inside the period, [0, 1)
+};
+
+FT_FUNC PeriodPhase ftPeriodPhase(TwistRates r, float s, FiberCoord fc) {
+  // Phase of eq. 2 in turns, shifted by ½ so a period runs R_min → R_max → R_min.
+  FT_PRECISE float phase = fc.thetaTurns + s * r.migration + 0.5f;
+  FT_PRECISE float whole = floor(phase);
+  PeriodPhase ph;
+  ph.fraction = phase - whole;
+  ph.index = uint(whole);
+  if (r.migrationPeriods > 0u) ph.index = ph.index % r.migrationPeriods;
+  return ph;
+}
+
+// Everything random about one period of one fiber: a pure function of
+// (yarn, ply, fiber, period, seed), so a generator may compute it once per
+// period and reuse it for every vertex in that period.
 struct FiberPeriod {
   uint type;         // FT_FIBER_MIGRATION, FT_FIBER_LOOP or FT_FIBER_HAIR
-  uint index;        // period index (wrapped on closed curves)
-  float fraction;    // position inside the period, [0, 1)
   float loopRhoMax;  // R_max^loop (ply-disk units) for a loop period
   float hairRadius;  // R_max^hair (ply-disk units): radius of the hair's free end
   float hairSpan;    // fraction of the period turned into the hair
@@ -91,30 +109,21 @@ struct FiberPeriod {
   uint hairAtEnd;    // 0: free end at the period start, 1: at its end
 };
 
-FT_FUNC FiberPeriod ftFiberPeriod(YarnParams p, TwistRates r, float s, uint yarn, uint ply, uint fiber,
-                                  FiberCoord fc) {
-  FiberPeriod fp;
-  // Phase of eq. 2 in turns, shifted by ½ so a period runs R_min → R_max → R_min.
-  FT_PRECISE float phase = fc.thetaTurns + s * r.migration + 0.5f;
-  FT_PRECISE float whole = floor(phase);
-  fp.fraction = phase - whole;
-  uint index = uint(whole);
-  if (r.migrationPeriods > 0u) index = index % r.migrationPeriods;
-  fp.index = index;
-
+FT_FUNC FiberPeriod ftFiberPeriod(YarnParams p, TwistRates r, uint yarn, uint ply, uint fiber, uint period) {
   FiberRandomKey key;
   key.yarn = yarn;
   key.plyFiber = ftPackFiberId(ply, fiber);
 #ifdef FT_FAULT_HAIR_PERIOD
-  key.period = index + 1u;
+  key.period = period + 1u;
 #else
-  key.period = index;
+  key.period = period;
 #endif
   key.seed = p.seed;
   uvec4 r0 = ftRandomBits(key, 0u);
   uvec4 r1 = ftRandomBits(key, 1u);
   uvec4 r2 = ftRandomBits(key, 2u);
   float u = ftUnitFloat(r0.x);
+  FiberPeriod fp;
   fp.type = u < p.loopProbability                          ? FT_FIBER_LOOP
             : u < p.loopProbability + p.hairProbability ? FT_FIBER_HAIR
                                                         : FT_FIBER_MIGRATION;
@@ -128,29 +137,20 @@ FT_FUNC FiberPeriod ftFiberPeriod(YarnParams p, TwistRates r, float s, uint yarn
   return fp;
 }
 
-// Point of fiber `fiber` (a row of the fiber table) of ply `ply` at length
-// coordinate s: c_i = c^yarn + Δc_j^ply + Δc_i (§3.1).
-struct FiberSample {
-  vec3 position;
-  uint type;
-  uint period;
-};
-
-FT_FUNC FiberSample ftFiberSample(YarnParams p, TwistRates r, YarnFrame f, float s, uint yarn, uint ply,
-                                  uint fiber, FiberCoord fc) {
-  PlyFrame pf = ftPlyFrame(p, r, f, s, ply);
-  FiberPeriod fp = ftFiberPeriod(p, r, s, yarn, ply, fiber, fc);
-
+// Point of fiber `fc` in ply frame `pf` at length coordinate s, given its
+// period: Δc_i of §3.1 added to the ply centre.
+FT_FUNC vec3 ftFiberPosition(YarnParams p, TwistRates r, YarnFrame f, PlyFrame pf, float s, FiberCoord fc,
+                             PeriodPhase ph, FiberPeriod fp) {
   FT_PRECISE float fiberTurns = fract(fc.thetaTurns + s * r.fiber);
   float angle = FT_TWO_PI * p.fiberTwistSign * fiberTurns;  // θ_i + θ of eq. 1
   float rhoMax = fp.type == FT_FIBER_LOOP ? fp.loopRhoMax : p.rhoMax;
-  float radius = ftMigrationRadius(p, fc.radius, rhoMax, fp.fraction);
+  float radius = ftMigrationRadius(p, fc.radius, rhoMax, ph.fraction);
 
   if (fp.type == FT_FIBER_HAIR) {
     // Part of the period becomes a hair: from its free end at R_max^hair the
     // radius runs linearly back to the migration radius where it rejoins.
     float span = fp.hairSpan;
-    float fromFreeEnd = fp.hairAtEnd != 0u ? 1.0f - fp.fraction : fp.fraction;
+    float fromFreeEnd = fp.hairAtEnd != 0u ? 1.0f - ph.fraction : ph.fraction;
     if (fromFreeEnd < span) {
       float w = fromFreeEnd / span;
       float join = ftMigrationRadius(p, fc.radius, p.rhoMax, fp.hairAtEnd != 0u ? 1.0f - span : span);
@@ -168,11 +168,7 @@ FT_FUNC FiberSample ftFiberSample(YarnParams p, TwistRates r, YarnFrame f, float
 #endif
   // Δc_i = R (cos(θ_i + θ) N_j^ply e_N + sin(θ_i + θ) B_j^ply e_B).
   vec3 fiberOffset = (pf.N * (cos(angle) * eN) + pf.B * (sin(angle) * eB)) * radius;
-  FiberSample fs;
-  fs.position = f.center + pf.offset + fiberOffset;
-  fs.type = fp.type;
-  fs.period = fp.index;
-  return fs;
+  return f.center + pf.offset + fiberOffset;
 }
 
 // The core fiber runs along the ply centre (§3.2).

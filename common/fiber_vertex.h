@@ -37,9 +37,20 @@ struct DrawElementsCommand {
   uint baseInstance;
   uint vertexTotal;   // not read by GL: total vertices written, for read-back
   uint stripTotal;    // not read by GL: fiber strips (one generate invocation each)
-  uint pad1;
+  uint sampleTotal;   // not read by GL: yarn samples (one per visible segment and vertex index)
 };
 FT_ASSERT_SIZE(DrawElementsCommand, 32)
+
+// The yarn frame and length coordinate at one vertex parameter t of one
+// segment: shared by every fiber of every ply there. The compute path
+// evaluates it once (a pass of its own); the tessellation path per vertex.
+struct YarnSample {
+  vec4 centerLength;  // xyz yarn centre, w length coordinate s
+  vec4 tangent;       // xyz T (w unused)
+  vec4 normal;        // xyz N
+  vec4 binormal;      // xyz B
+};
+FT_ASSERT_SIZE(YarnSample, 64)
 
 FT_FUNC uint ftPackFiberId(uint ply, uint fiber) { return (ply << 16u) | (fiber & 0xFFFFu); }
 FT_FUNC uint ftPackTypeVertex(uint type, uint vertex, uint period) {

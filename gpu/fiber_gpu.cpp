@@ -60,6 +60,7 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
   framesProgram_ = buildProgram({"shaders/yarn_frames.comp.glsl"}, defines_);
   decideProgram_ = buildProgram({"shaders/fiber_decide.comp.glsl"}, defines_);
   scanProgram_ = buildProgram({"shaders/fiber_scan.comp.glsl"}, defines_);
+  samplesProgram_ = buildProgram({"shaders/fiber_samples.comp.glsl"}, defines_);
   generateProgram_ = buildProgram({"shaders/fiber_generate.comp.glsl"}, defines_);
   const std::vector<std::string> tess = {"shaders/fiber_tess.vert.glsl", "shaders/fiber_tess.tesc.glsl",
                                          "shaders/fiber_tess.tese.glsl"};
@@ -80,11 +81,11 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
 }
 
 FiberGpu::~FiberGpu() {
-  for (GLuint p : {framesProgram_, decideProgram_, scanProgram_, generateProgram_, tessCaptureProgram_,
+  for (GLuint p : {framesProgram_, decideProgram_, samplesProgram_, scanProgram_, generateProgram_, tessCaptureProgram_,
                    tessDrawProgram_, stripDrawProgram_})
     if (p) glDeleteProgram(p);
   GLuint buffers[] = {yarnUbo_, viewUbo_, points_, curves_, segments_, frames_, table_,
-                      list_,    decisions_, offsets_, vertices_, indices_, draw_, xfb_};
+                      list_,    decisions_, offsets_, samples_, vertices_, indices_, draw_, xfb_};
   glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (captureFbo_) glDeleteFramebuffers(1, &captureFbo_);
@@ -101,6 +102,7 @@ void FiberGpu::bindCommon() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SEGMENT_LIST, list_);
   if (decisions_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DECISIONS, decisions_);
   if (offsets_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_OFFSETS, offsets_);
+  if (samples_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLES, samples_);
   if (vertices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vertices_);
   if (indices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_INDICES, indices_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DRAW_COMMAND, draw_);
@@ -162,21 +164,35 @@ void FiberGpu::generateCompute() {
   // The only CPU–GPU sync of the path: the totals size the output buffers.
   ensureComputeCapacity();
   bindCommon();
+  glUseProgram(samplesProgram_);
+  setUint(samplesProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  setUint(samplesProgram_, "sampleTotal", static_cast<uint32_t>(pendingSamples_));
+  dispatchFlat(samplesProgram_, pendingSamples_, FT_WG_SAMPLES, "fiber_samples");
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(generateProgram_);
-  const size_t strips = pendingStrips_;
-  const size_t groups = (strips + FT_WG_GENERATE - 1) / FT_WG_GENERATE;
-  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
-  const uint32_t groupsY = checkedGroups(groups, std::max<uint32_t>(groupsX, 1), maxGroupsY_, "fiber_generate");
   setUint(generateProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  setUint(generateProgram_, "stripTotal", static_cast<uint32_t>(strips));
-  setUint(generateProgram_, "groupsX", groupsX);
-  if (strips) glDispatchCompute(groupsX, groupsY, 1);
+  setUint(generateProgram_, "stripTotal", static_cast<uint32_t>(pendingStrips_));
+  dispatchFlat(generateProgram_, pendingStrips_, FT_WG_GENERATE, "fiber_generate");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void FiberGpu::dispatchFlat(GLuint program, size_t items, size_t groupSize, const char* what) {
+  if (items == 0) return;
+  const size_t groups = (items + groupSize - 1) / groupSize;
+  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
+  const uint32_t groupsY = checkedGroups(groups, groupsX, maxGroupsY_, what);
+  setUint(program, "groupsX", groupsX);
+  glDispatchCompute(groupsX, groupsY, 1);
 }
 
 void FiberGpu::ensureComputeCapacity() {
   const DrawElementsCommand cmd = readDrawCommand();
   pendingStrips_ = cmd.stripTotal;
+  pendingSamples_ = cmd.sampleTotal;
+  if (cmd.sampleTotal > sampleCapacity_ || !samples_) {
+    sampleCapacity_ = std::max<size_t>(cmd.sampleTotal, sampleCapacity_ * 3 / 2);
+    replaceBuffer(samples_, sampleCapacity_ * sizeof(YarnSample));
+  }
   if (cmd.vertexTotal > vertexCapacity_ || !vertices_) {
     vertexCapacity_ = std::max<size_t>(cmd.vertexTotal, vertexCapacity_ * 3 / 2);
     replaceBuffer(vertices_, vertexCapacity_ * sizeof(FiberVertex));

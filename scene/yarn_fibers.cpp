@@ -39,8 +39,7 @@ std::vector<FiberCoord> makeFiberTable(const YarnPreset& preset, uint32_t seed) 
   return table;
 }
 
-YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord>& table,
-                          const FiberOptions& options) {
+void checkFiberOptions(const YarnPreset& preset, const FiberOptions& options) {
   if (options.regularFibersPerPly > static_cast<uint32_t>(preset.fiberNum))
     throw InputError(fmt::format("--fibers-per-ply: {} exceeds the {} fibers per ply of yarn '{}'",
                                  options.regularFibersPerPly, preset.fiberNum, preset.name));
@@ -49,6 +48,11 @@ YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord
                                  FT_MAX_SUBDIVISIONS));
   if (!(options.fiberRadius > 0.0f) || !std::isfinite(options.fiberRadius))
     throw InputError(fmt::format("--fiber-radius: {} must be a positive number", options.fiberRadius));
+}
+
+YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord>& table,
+                          const FiberOptions& options) {
+  checkFiberOptions(preset, options);
   if (table.size() != static_cast<size_t>(preset.fiberNum))
     throw InputError(fmt::format("yarn preset {}: fiber table has {} rows, expected {}", preset.name,
                                  table.size(), preset.fiberNum));

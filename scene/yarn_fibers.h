@@ -23,6 +23,11 @@ struct FiberOptions {
 // (common/rng.h) so the table is the same on every machine; sorted by R then θ.
 std::vector<FiberCoord> makeFiberTable(const YarnPreset& preset, uint32_t seed);
 
+// Throws InputError (naming the option and value) when `options` cannot be
+// used with `preset`. makeYarnParams checks the same; call this first to
+// reject bad options before any other work.
+void checkFiberOptions(const YarnPreset& preset, const FiberOptions& options);
+
 // Fills YarnParams. Loop and hair fibers: the preset gives densities per unit
 // length of ply; each regular fiber has preset.sI/alpha migration periods per
 // unit length, so a period is a loop with probability 1 - exp(-λ_loop),

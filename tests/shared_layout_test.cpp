@@ -47,7 +47,8 @@ namespace {
   X(pad1)
 #define FT_DRAW_ELEMENTS_COMMAND_MEMBERS(X) \
   X(count) X(instanceCount) X(firstIndex) X(baseVertex) X(baseInstance) X(vertexTotal) X(stripTotal) \
-  X(pad1)
+  X(sampleTotal)
+#define FT_YARN_SAMPLE_MEMBERS(X) X(centerLength) X(tangent) X(normal) X(binormal)
 // clang-format on
 
 struct Member {
@@ -94,6 +95,7 @@ std::vector<StructCase> structCases() {
       FT_STORAGE_CASE(FiberVertex, FT_FIBER_VERTEX_MEMBERS, FT_SSBO_VERTICES),
       FT_STORAGE_CASE(SegmentDecision, FT_SEGMENT_DECISION_MEMBERS, FT_SSBO_DECISIONS),
       FT_STORAGE_CASE(DrawElementsCommand, FT_DRAW_ELEMENTS_COMMAND_MEMBERS, FT_SSBO_DRAW_COMMAND),
+      FT_STORAGE_CASE(YarnSample, FT_YARN_SAMPLE_MEMBERS, FT_SSBO_SAMPLES),
   };
 }
 
@@ -260,6 +262,7 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   add(pattern<FiberVertex>(700.0f), FT_SSBO_VERTICES);
   add(pattern<SegmentDecision>(800.0f), FT_SSBO_DECISIONS);
   add(pattern<DrawElementsCommand>(900.0f), FT_SSBO_DRAW_COMMAND);
+  add(pattern<YarnSample>(1000.0f), FT_SSBO_SAMPLES);
 
   glUseProgram(program_.id());
   glDispatchCompute(1, 1, 1);
@@ -279,6 +282,7 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   check(5, pattern<FiberVertex>(700.0f), "FiberVertex");
   check(6, pattern<SegmentDecision>(800.0f), "SegmentDecision");
   check(7, pattern<DrawElementsCommand>(900.0f), "DrawElementsCommand");
+  check(8, pattern<YarnSample>(1000.0f), "YarnSample");
 
   // std140 uniform → std430 storage copy: both layouts equal the C++ one for these structs.
   std::vector<YarnParams> yarnBack = readBuffer<YarnParams>(copy.id(), 1);

@@ -21,7 +21,8 @@ void CaseResult::finish() {
 ValidationContext::ValidationContext(HarnessOptions options) : options_(std::move(options)) {
   model_ = options_.model ? readBcc(*options_.model) : makeDefaultScene();
   buffers_ = buildYarnBuffers(model_);
-  for (const std::string& y : options_.yarns) findYarnPreset(y);  // unknown names fail before any GL work
+  // Bad names and options fail here, before any GL work.
+  for (const YarnPreset* preset : presets()) checkFiberOptions(*preset, options_.fiber);
   std::vector<std::string> defines;
   if (!options_.inject.empty()) {
     const Fault* f = findFault(options_.inject);

@@ -123,13 +123,13 @@ int main(int argc, char** argv) {
       else if (distance == "mid") cam = ft::lodCamera(model, params, ft::LodDistance::Mid, 1.0f, width, height);
       else if (distance == "far") cam = ft::lodCamera(model, params, ft::LodDistance::Far, 1.0f, width, height);
       else throw ft::InputError(fmt::format("--distance: '{}' is not frame, near, mid or far", distance));
+      ft::RenderStyle style;
+      style.lightDir = glm::normalize(parseVec3(light, "--light"));
       auto ctx = ft::GlContext::create(parseBackend(backend));
       const ft::GlInfo& g = ctx->info();
       ft::FiberGpu gpu(g);
       gpu.setModel(buffers, table);
       gpu.setParams(params, ft::makeViewParams(cam, 1.0f, true, true));
-      ft::RenderStyle style;
-      style.lightDir = glm::normalize(parseVec3(light, "--light"));
       const auto t0 = std::chrono::steady_clock::now();
       const ft::RgbaImage img = pathName == "compute" ? gpu.renderCompute(width, height, style)
                                                       : gpu.renderTessellation(width, height, style);

@@ -1,4 +1,4 @@
-// Compute path, pass 3: one invocation per fiber strip (listed segment, ply,
+// Compute path, pass 4: one invocation per fiber strip (listed segment, ply,
 // fiber slot) of the visible segments — the strips are numbered by the scan,
 // so no invocation idles on culled segments or dropped LoD fibers. Each
 // writes its fiber's vertices in canonical order and its line-strip indices.
@@ -6,7 +6,8 @@
 
 layout(local_size_x = FT_WG_GENERATE) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
-layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, 0)
+layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, sample)
+layout(std430, binding = FT_SSBO_SAMPLES) readonly buffer SampleBuffer { YarnSample samples[]; };
 layout(std430, binding = FT_SSBO_VERTICES) writeonly buffer VertexBuffer { FiberVertex vertices[]; };
 layout(std430, binding = FT_SSBO_INDICES) writeonly buffer IndexBuffer { uint indices[]; };
 uniform uint listCount;
@@ -30,13 +31,17 @@ void main() {
   uint slot = strip % slotsPerPly;
   uint segment = segmentList[i];
   SegmentRef ref = segmentRefs[segment];
-  YarnSegment seg = loadSegment(segment);
+  uint sampleBase = offsets[i].w;
   TwistRates rates = ftTwistRates(yarn, curves[ref.curve]);
   FiberCoord fc = slotFiberCoord(slot);
   uint vertexBase = offsets[i].x + ftVertexOffset(d, ply, slot, 0u);
   uint indexBase = offsets[i].y + strip * (d.subdivisions + 2u);
+  PeriodCache cache = ftEmptyPeriodCache();
   for (uint v = 0u; v <= d.subdivisions; ++v) {
-    vertices[vertexBase + v] = ftFiberVertex(yarn, rates, seg, d, ref.curve, segment, ply, slot, fc, v);
+    CachedFiberVertex cv =
+        ftFiberVertexAt(yarn, rates, samples[sampleBase + v], d, ref.curve, segment, ply, slot, fc, v, cache);
+    cache = cv.cache;
+    vertices[vertexBase + v] = cv.vertex;
     indices[indexBase + v] = vertexBase + v;
   }
   indices[indexBase + d.subdivisions + 1u] = FT_RESTART_INDEX;

@@ -9,7 +9,7 @@
 
 layout(local_size_x = FT_WG_SCAN) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
-layout(std430, binding = FT_SSBO_OFFSETS) writeonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, 0)
+layout(std430, binding = FT_SSBO_OFFSETS) writeonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, sample)
 layout(std430, binding = FT_SSBO_DRAW_COMMAND) writeonly buffer DrawBuffer { DrawElementsCommand draw; };
 layout(std140, binding = FT_UBO_YARN_PARAMS) uniform YarnBlock { YarnParams yarn; };
 uniform uint listCount;
@@ -20,7 +20,8 @@ uvec4 counts(uint i) {
   SegmentDecision d = decisions[i];
   // One restart index after each fiber strip.
   uint strips = d.culled != 0u ? 0u : yarn.plyCount * (1u + d.regularCount);
-  return uvec4(d.vertexCount, strips * (d.subdivisions + 2u), strips, 0u);
+  uint samples = d.culled != 0u ? 0u : d.subdivisions + 1u;
+  return uvec4(d.vertexCount, strips * (d.subdivisions + 2u), strips, samples);
 }
 
 void main() {
@@ -51,6 +52,6 @@ void main() {
     draw.baseInstance = 0u;
     draw.vertexTotal = partial[lane].x;
     draw.stripTotal = partial[lane].z;
-    draw.pad1 = 0u;
+    draw.sampleTotal = partial[lane].w;
   }
 }

@@ -26,6 +26,7 @@ layout(std430, binding = FT_SSBO_DECISIONS) buffer SegmentDecisionBuf { SegmentD
 layout(std430, binding = FT_SSBO_DRAW_COMMAND) buffer DrawElementsCommandBuf {
   DrawElementsCommand data[];
 } commands;
+layout(std430, binding = FT_SSBO_SAMPLES) buffer YarnSampleBuf { YarnSample data[]; } samples;
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -40,6 +41,7 @@ void main() {
   vertices.data[1] = vertices.data[0];
   decisions.data[1] = decisions.data[0];
   commands.data[1] = commands.data[0];
+  samples.data[1] = samples.data[0];
   paramsCopy.yarnCopy = yarn;
   paramsCopy.viewCopy = view;
 }

@@ -1,0 +1,190 @@
+// Fault injection: every planted shader bug of validation/faults.h must be
+// *detected* by the harness — some case fails on each GPU path, the fault's
+// `caughtBy` metric is among the failures, and no case merely crashed (an
+// exception is not a detection). The unmodified build must pass. One test per
+// entry of ft::kFaults, so adding a fault adds a test.
+// Names start with a lower-case "fault" so that `ctest -R fault` selects them
+// (ctest -R is case-sensitive); `ctest -L fault` does too.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "gpu/gl_context.h"
+#include "scene/input_error.h"
+#include "validation/faults.h"
+#include "validation/harness.h"
+
+namespace ft {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh report folder per run, removed when the test is done.
+class TempReportDir {
+ public:
+  explicit TempReportDir(const std::string& tag) {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("fibertwin-fault-test-" + tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::remove_all(path_);
+  }
+  ~TempReportDir() {
+    std::error_code ec;
+    if (!keep_) fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+  void keep() { keep_ = true; }
+
+ private:
+  fs::path path_;
+  bool keep_ = false;
+};
+
+HarnessOptions optionsFor(const std::string& inject, const fs::path& reportDir) {
+  HarnessOptions o;
+  o.yarns = {"cotton1"};
+  o.images = false;
+  o.inject = inject;
+  o.reportDir = reportDir;
+  o.backend = glBackendFromEnv();
+  return o;
+}
+
+std::string failingMetrics(const CaseResult& r) {
+  std::string s;
+  for (const Metric& m : r.metrics)
+    if (!m.pass()) s += fmt::format(" {}={:.3g}>{:.3g}", m.name, m.value, m.tolerance);
+  return s;
+}
+
+// Every case on one line: pass/FAIL, path, failing metrics, error.
+std::string describe(const RunSummary& run) {
+  std::ostringstream s;
+  s << run.results.size() << " cases:\n";
+  for (const CaseResult& r : run.results) {
+    s << "  " << (r.pass ? "ok  " : "FAIL") << " " << r.name << " [" << (r.path.empty() ? "-" : r.path) << "]"
+      << failingMetrics(r);
+    if (!r.error.empty()) s << "  error: " << r.error;
+    s << "\n";
+  }
+  return s.str();
+}
+
+struct Outcome {
+  RunSummary run;
+  std::string log;
+};
+
+Outcome runHarness(const std::string& inject, TempReportDir& dir) {
+  std::ostringstream log;
+  Outcome o;
+  o.run = runValidation(optionsFor(inject, dir.path()), log);
+  o.log = log.str();
+  return o;
+}
+
+// ---- the unmodified GPU side -------------------------------------------------
+
+TEST(fault_injection, UnmodifiedRunPassesEveryCase) {
+  TempReportDir dir("none");
+  const Outcome o = runHarness("", dir);
+  ASSERT_GT(o.run.results.size(), 0u) << "the harness ran no case\n" << o.log;
+  std::string failing;
+  for (const CaseResult& r : o.run.results)
+    if (!r.pass) failing += "  " + r.name + failingMetrics(r) + (r.error.empty() ? "" : "  error: " + r.error) + "\n";
+  EXPECT_TRUE(failing.empty()) << "cases failing without an injected fault:\n" << failing << describe(o.run);
+  EXPECT_TRUE(o.run.allPassed) << describe(o.run);
+  EXPECT_TRUE(fs::exists(dir.path() / "report.json")) << dir.path();
+  if (::testing::Test::HasFailure()) dir.keep();
+}
+
+// ---- one test per planted fault ---------------------------------------------
+
+class PlantedFault : public ::testing::TestWithParam<Fault> {};
+
+}  // namespace
+
+// How GoogleTest shows a parameter (found by argument-dependent lookup).
+void PrintTo(const Fault& f, std::ostream* os) { *os << f.name << " (" << f.define << ")"; }
+
+namespace {
+
+TEST_P(PlantedFault, IsDetectedOnBothPaths) {
+  const Fault& fault = GetParam();
+  TempReportDir dir(fault.name);
+  const Outcome o = runHarness(fault.name, dir);
+  const std::string all = describe(o.run) + "report: " + dir.path().string() + "\n";
+  const std::string intro = std::string("fault ") + fault.name + " (" + fault.description + ")";
+
+  ASSERT_GT(o.run.results.size(), 0u) << intro << ": the harness ran no case\n" << o.log;
+  EXPECT_FALSE(o.run.allPassed) << intro << " went undetected: every case passed\n" << all;
+
+  // A crash or exception is not a detection.
+  std::string errors;
+  for (const CaseResult& r : o.run.results)
+    if (!r.error.empty()) errors += "  " + r.name + ": " + r.error + "\n";
+  EXPECT_TRUE(errors.empty()) << intro << ": cases threw instead of failing a metric:\n" << errors << all;
+
+  // Both GPU paths must catch it.
+  std::string failingTess, failingCompute;
+  for (const CaseResult& r : o.run.results) {
+    if (r.pass) continue;
+    if (r.path == "tessellation") failingTess += " " + r.name;
+    if (r.path == "compute") failingCompute += " " + r.name;
+  }
+  EXPECT_FALSE(failingTess.empty()) << intro << ": no tessellation-path case failed\n" << all;
+  EXPECT_FALSE(failingCompute.empty()) << intro << ": no compute-path case failed\n" << all;
+
+  // ... with the metric the fault is documented to trip.
+  std::string caughtIn;
+  bool metricSeen = false;
+  for (const CaseResult& r : o.run.results)
+    for (const Metric& m : r.metrics) {
+      if (m.name != fault.caughtBy) continue;
+      metricSeen = true;
+      if (!m.pass()) caughtIn += " " + r.name;
+    }
+  EXPECT_TRUE(metricSeen) << intro << ": no case reports the metric " << fault.caughtBy << "\n" << all;
+  EXPECT_FALSE(caughtIn.empty()) << intro << ": its caughtBy metric " << fault.caughtBy
+                                 << " passed in every case (failing elsewhere: tessellation" << failingTess
+                                 << "; compute" << failingCompute << ")\n"
+                                 << all;
+  if (::testing::Test::HasFailure()) dir.keep();
+}
+
+std::string faultTestName(const ::testing::TestParamInfo<Fault>& info) {
+  std::string s = info.param.name;
+  std::replace_if(s.begin(), s.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+  return s;
+}
+
+INSTANTIATE_TEST_SUITE_P(fault, PlantedFault, ::testing::ValuesIn(kFaults), faultTestName);
+
+// ---- bad --inject names ------------------------------------------------------
+
+TEST(fault_injection, UnknownFaultNameIsAnInputErrorListingTheKnownNames) {
+  TempReportDir dir("unknown");
+  std::ostringstream log;
+  try {
+    runValidation(optionsFor("no-such-fault", dir.path()), log);
+    FAIL() << "--inject no-such-fault did not throw";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no-such-fault"), std::string::npos) << what;
+    for (const Fault& f : kFaults) EXPECT_NE(what.find(f.name), std::string::npos) << "missing " << f.name << ": " << what;
+  } catch (const std::exception& e) {
+    FAIL() << "expected ft::InputError, got another exception: " << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir.path() / "report.json")) << "a report was written for an invalid run";
+}
+
+}  // namespace
+}  // namespace ft
