@@ -23,6 +23,8 @@
 #define FT_SSBO_SEGMENT_LIST 10
 #define FT_SSBO_LAYOUT_PROBE 11
 #define FT_SSBO_SAMPLES 12
+#define FT_SSBO_STRIP_OWNERS 13
+#define FT_SSBO_SAMPLE_OWNERS 14
 
 // Work-group sizes (local_size_x).
 #define FT_WG_FRAMES 64

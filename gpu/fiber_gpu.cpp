@@ -60,6 +60,7 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
   framesProgram_ = buildProgram({"shaders/yarn_frames.comp.glsl"}, defines_);
   decideProgram_ = buildProgram({"shaders/fiber_decide.comp.glsl"}, defines_);
   scanProgram_ = buildProgram({"shaders/fiber_scan.comp.glsl"}, defines_);
+  ownersProgram_ = buildProgram({"shaders/fiber_owners.comp.glsl"}, defines_);
   samplesProgram_ = buildProgram({"shaders/fiber_samples.comp.glsl"}, defines_);
   generateProgram_ = buildProgram({"shaders/fiber_generate.comp.glsl"}, defines_);
   const std::vector<std::string> tess = {"shaders/fiber_tess.vert.glsl", "shaders/fiber_tess.tesc.glsl",
@@ -81,11 +82,11 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
 }
 
 FiberGpu::~FiberGpu() {
-  for (GLuint p : {framesProgram_, decideProgram_, samplesProgram_, scanProgram_, generateProgram_, tessCaptureProgram_,
+  for (GLuint p : {framesProgram_, decideProgram_, ownersProgram_, samplesProgram_, scanProgram_, generateProgram_, tessCaptureProgram_,
                    tessDrawProgram_, stripDrawProgram_})
     if (p) glDeleteProgram(p);
   GLuint buffers[] = {yarnUbo_, viewUbo_, points_, curves_, segments_, frames_, table_,
-                      list_,    decisions_, offsets_, samples_, vertices_, indices_, draw_, xfb_};
+                      list_,    decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_};
   glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (captureFbo_) glDeleteFramebuffers(1, &captureFbo_);
@@ -103,6 +104,8 @@ void FiberGpu::bindCommon() const {
   if (decisions_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DECISIONS, decisions_);
   if (offsets_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_OFFSETS, offsets_);
   if (samples_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLES, samples_);
+  if (stripOwners_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_STRIP_OWNERS, stripOwners_);
+  if (sampleOwners_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLE_OWNERS, sampleOwners_);
   if (vertices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vertices_);
   if (indices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_INDICES, indices_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DRAW_COMMAND, draw_);
@@ -164,6 +167,10 @@ void FiberGpu::generateCompute() {
   // The only CPU–GPU sync of the path: the totals size the output buffers.
   ensureComputeCapacity();
   bindCommon();
+  glUseProgram(ownersProgram_);
+  setUint(ownersProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  glDispatchCompute(checkedGroups(listCount_, FT_WG_DECIDE, 65535, "fiber_owners"), 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(samplesProgram_);
   setUint(samplesProgram_, "listCount", static_cast<uint32_t>(listCount_));
   setUint(samplesProgram_, "sampleTotal", static_cast<uint32_t>(pendingSamples_));
@@ -192,6 +199,11 @@ void FiberGpu::ensureComputeCapacity() {
   if (cmd.sampleTotal > sampleCapacity_ || !samples_) {
     sampleCapacity_ = std::max<size_t>(cmd.sampleTotal, sampleCapacity_ * 3 / 2);
     replaceBuffer(samples_, sampleCapacity_ * sizeof(YarnSample));
+    replaceBuffer(sampleOwners_, sampleCapacity_ * sizeof(uint32_t));
+  }
+  if (cmd.stripTotal > stripCapacity_ || !stripOwners_) {
+    stripCapacity_ = std::max<size_t>(cmd.stripTotal, stripCapacity_ * 3 / 2);
+    replaceBuffer(stripOwners_, stripCapacity_ * sizeof(uint32_t));
   }
   if (cmd.vertexTotal > vertexCapacity_ || !vertices_) {
     vertexCapacity_ = std::max<size_t>(cmd.vertexTotal, vertexCapacity_ * 3 / 2);
@@ -252,12 +264,19 @@ size_t FiberGpu::captureTessellation() {
   glPatchParameteri(GL_PATCH_VERTICES, 4);
   const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
   const uint32_t instances = (slots + linesPerPatch() - 1) / linesPerPatch();
-  // One transform-feedback session per instance block, each into its own
-  // buffer range after the lines the previous ones wrote. llvmpipe (Mesa
-  // 22.3) misplaces output when a tessellated draw with several instances, or
-  // several draws, append within one session: part of the first block is
-  // overwritten (tests/fiber_gpu_test.cpp, InstancedPatches..., catches it).
+  // One transform-feedback session per (instance block, chunk of segments),
+  // each into its own buffer range after what the previous ones wrote:
+  //  * llvmpipe (Mesa 22.3) misplaces output when a tessellated draw with
+  //    several instances, or several draws, append within one session (part of
+  //    the first block is overwritten; tests/fiber_gpu_test.cpp
+  //    InstancedPatches... catches it);
+  //  * its capture time grows quadratically with the lines one draw writes
+  //    (600 full-detail segments: 2.4 s in one draw), so draws are cut into
+  //    chunks of at most kCaptureLinesPerDraw lines.
   // Rendering uses one instanced draw with the same shaders.
+  constexpr size_t kCaptureLinesPerDraw = 16384;
+  const size_t linesPerSegment = size_t(linesPerPatch()) * params_.maxSubdivisions;
+  const size_t chunk = std::max<size_t>(1, kCaptureLinesPerDraw / std::max<size_t>(linesPerSegment, 1));
   glBindFramebuffer(GL_FRAMEBUFFER, captureFbo_);
   glEnable(GL_RASTERIZER_DISCARD);
   GLuint queries[2];
@@ -265,26 +284,28 @@ size_t FiberGpu::captureTessellation() {
   size_t written = 0, generated = 0;
   const size_t lineBytes = 2 * sizeof(FiberVertex);
   for (uint32_t k = 0; k < instances; ++k) {
-    const size_t room = xfbCapacityLines_ > written ? xfbCapacityLines_ - written : 0;
-    if (room == 0) {  // still draw, to count what overflowed
-      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, 0, static_cast<GLsizeiptr>(lineBytes));
-    } else {
-      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, static_cast<GLintptr>(written * lineBytes),
-                        static_cast<GLsizeiptr>(room * lineBytes));
-    }
     setUint(tessCaptureProgram_, "instanceOffset", k);
-    glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
-    glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
-    glBeginTransformFeedback(GL_LINES);
-    glDrawArrays(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_));
-    glEndTransformFeedback();
-    glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
-    glEndQuery(GL_PRIMITIVES_GENERATED);
-    GLuint g = 0, w = 0;
-    glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &g);
-    glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &w);
-    generated += g;
-    written += room == 0 ? 0 : w;
+    for (size_t first = 0; first < listCount_; first += chunk) {
+      const size_t room = xfbCapacityLines_ > written ? xfbCapacityLines_ - written : 0;
+      if (room == 0)  // still draw, to count what overflowed
+        glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, 0, static_cast<GLsizeiptr>(lineBytes));
+      else
+        glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, static_cast<GLintptr>(written * lineBytes),
+                          static_cast<GLsizeiptr>(room * lineBytes));
+      glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
+      glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
+      glBeginTransformFeedback(GL_LINES);
+      glDrawArrays(GL_PATCHES, static_cast<GLint>(4 * first),
+                   static_cast<GLsizei>(4 * std::min(chunk, listCount_ - first)));
+      glEndTransformFeedback();
+      glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+      glEndQuery(GL_PRIMITIVES_GENERATED);
+      GLuint g = 0, w = 0;
+      glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &g);
+      glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &w);
+      generated += g;
+      written += room == 0 ? 0 : w;
+    }
   }
   glDisable(GL_RASTERIZER_DISCARD);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

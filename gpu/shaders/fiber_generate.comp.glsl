@@ -1,4 +1,4 @@
-// Compute path, pass 4: one invocation per fiber strip (listed segment, ply,
+// Compute path, pass 5: one invocation per fiber strip (listed segment, ply,
 // fiber slot) of the visible segments — the strips are numbered by the scan,
 // so no invocation idles on culled segments or dropped LoD fibers. Each
 // writes its fiber's vertices in canonical order and its line-strip indices.
@@ -6,6 +6,7 @@
 
 layout(local_size_x = FT_WG_GENERATE) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
+layout(std430, binding = FT_SSBO_STRIP_OWNERS) readonly buffer StripOwnerBuffer { uint stripOwner[]; };
 layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, sample)
 layout(std430, binding = FT_SSBO_SAMPLES) readonly buffer SampleBuffer { YarnSample samples[]; };
 layout(std430, binding = FT_SSBO_VERTICES) writeonly buffer VertexBuffer { FiberVertex vertices[]; };
@@ -17,13 +18,7 @@ uniform uint groupsX;  // work groups along x per y row
 void main() {
   uint global = (gl_WorkGroupID.y * groupsX + gl_WorkGroupID.x) * FT_WG_GENERATE + gl_LocalInvocationID.x;
   if (global >= stripTotal) return;
-  // The listed segment owning this strip: last i with offsets[i].z <= global.
-  uint lo = 0u, hi = listCount - 1u;
-  while (lo < hi) {
-    uint mid = (lo + hi + 1u) / 2u;
-    if (offsets[mid].z <= global) lo = mid; else hi = mid - 1u;
-  }
-  uint i = lo;
+  uint i = stripOwner[global];
   SegmentDecision d = decisions[i];
   uint slotsPerPly = ftSlotsPerPly(d);
   uint strip = global - offsets[i].z;

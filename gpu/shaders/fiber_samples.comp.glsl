@@ -1,4 +1,4 @@
-// Compute path, pass 3: the yarn frame and length coordinate at every vertex
+// Compute path, pass 4: the yarn frame and length coordinate at every vertex
 // parameter of every visible listed segment (ftYarnSample), once — every
 // fiber of every ply at that parameter reads it in pass 4 instead of
 // re-evaluating the cubic and its frame. Samples are numbered by the scan.
@@ -6,6 +6,7 @@
 
 layout(local_size_x = FT_WG_SAMPLES) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
+layout(std430, binding = FT_SSBO_SAMPLE_OWNERS) readonly buffer SampleOwnerBuffer { uint sampleOwner[]; };
 layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, sample)
 layout(std430, binding = FT_SSBO_SAMPLES) writeonly buffer SampleBuffer { YarnSample samples[]; };
 uniform uint listCount;
@@ -15,11 +16,6 @@ uniform uint groupsX;  // work groups along x per y row
 void main() {
   uint global = (gl_WorkGroupID.y * groupsX + gl_WorkGroupID.x) * FT_WG_SAMPLES + gl_LocalInvocationID.x;
   if (global >= sampleTotal) return;
-  // The listed segment owning this sample: last i with offsets[i].w <= global.
-  uint lo = 0u, hi = listCount - 1u;
-  while (lo < hi) {
-    uint mid = (lo + hi + 1u) / 2u;
-    if (offsets[mid].w <= global) lo = mid; else hi = mid - 1u;
-  }
-  samples[global] = ftYarnSample(loadSegment(segmentList[lo]), decisions[lo], global - offsets[lo].w);
+  uint i = sampleOwner[global];
+  samples[global] = ftYarnSample(loadSegment(segmentList[i]), decisions[i], global - offsets[i].w);
 }
