@@ -272,40 +272,56 @@ size_t FiberGpu::captureTessellation() {
   //    InstancedPatches... catches it);
   //  * its capture time grows quadratically with the lines one draw writes
   //    (600 full-detail segments: 2.4 s in one draw), so draws are cut into
-  //    chunks of at most kCaptureLinesPerDraw lines.
+  //    chunks of about kCaptureLinesPerDraw lines; a trailing range that
+  //    emits nothing in this instance block is not drawn.
   // Rendering uses one instanced draw with the same shaders.
   constexpr size_t kCaptureLinesPerDraw = 16384;
-  const size_t linesPerSegment = size_t(linesPerPatch()) * params_.maxSubdivisions;
-  const size_t chunk = std::max<size_t>(1, kCaptureLinesPerDraw / std::max<size_t>(linesPerSegment, 1));
+  // Chunk boundaries from the GPU's own decisions (lines each listed segment
+  // emits in each instance block), read back once.
+  const std::vector<SegmentDecision> decisions = readDecisions();
+  const uint32_t perPatch = linesPerPatch();
   glBindFramebuffer(GL_FRAMEBUFFER, captureFbo_);
   glEnable(GL_RASTERIZER_DISCARD);
   GLuint queries[2];
   glGenQueries(2, queries);
   size_t written = 0, generated = 0;
   const size_t lineBytes = 2 * sizeof(FiberVertex);
+  auto drawChunk = [&](size_t first, size_t count) {
+    const size_t room = xfbCapacityLines_ > written ? xfbCapacityLines_ - written : 0;
+    if (room == 0)  // still draw, to count what overflowed
+      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, 0, static_cast<GLsizeiptr>(lineBytes));
+    else
+      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, static_cast<GLintptr>(written * lineBytes),
+                        static_cast<GLsizeiptr>(room * lineBytes));
+    glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
+    glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
+    glBeginTransformFeedback(GL_LINES);
+    glDrawArrays(GL_PATCHES, static_cast<GLint>(4 * first), static_cast<GLsizei>(4 * count));
+    glEndTransformFeedback();
+    glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+    glEndQuery(GL_PRIMITIVES_GENERATED);
+    GLuint g = 0, w = 0;
+    glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &g);
+    glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &w);
+    generated += g;
+    written += room == 0 ? 0 : w;
+  };
   for (uint32_t k = 0; k < instances; ++k) {
     setUint(tessCaptureProgram_, "instanceOffset", k);
-    for (size_t first = 0; first < listCount_; first += chunk) {
-      const size_t room = xfbCapacityLines_ > written ? xfbCapacityLines_ - written : 0;
-      if (room == 0)  // still draw, to count what overflowed
-        glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, 0, static_cast<GLsizeiptr>(lineBytes));
-      else
-        glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, static_cast<GLintptr>(written * lineBytes),
-                          static_cast<GLsizeiptr>(room * lineBytes));
-      glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
-      glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
-      glBeginTransformFeedback(GL_LINES);
-      glDrawArrays(GL_PATCHES, static_cast<GLint>(4 * first),
-                   static_cast<GLsizei>(4 * std::min(chunk, listCount_ - first)));
-      glEndTransformFeedback();
-      glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
-      glEndQuery(GL_PRIMITIVES_GENERATED);
-      GLuint g = 0, w = 0;
-      glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &g);
-      glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &w);
-      generated += g;
-      written += room == 0 ? 0 : w;
+    size_t first = 0, lines = 0;
+    for (size_t i = 0; i < listCount_; ++i) {
+      const SegmentDecision& d = decisions[i];
+      const uint32_t slots = d.culled ? 0u : params_.plyCount * (1u + d.regularCount);
+      const uint32_t begin = k * perPatch;
+      const size_t mine = slots > begin ? std::min(slots - begin, perPatch) * size_t(d.subdivisions) : 0;
+      if (lines > 0 && lines + mine > kCaptureLinesPerDraw) {
+        drawChunk(first, i - first);
+        first = i;
+        lines = 0;
+      }
+      lines += mine;
     }
+    if (lines > 0) drawChunk(first, listCount_ - first);
   }
   glDisable(GL_RASTERIZER_DISCARD);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
