@@ -44,7 +44,11 @@ FT_FUNC vec3 ftRmfStep(vec3 x0, vec3 t0, vec3 r0, vec3 x1, vec3 t1) {
   vec3 tL = t0 - v1 * (2.0f / c1 * dot(v1, t0));
   vec3 v2 = t1 - tL;
   float c2 = dot(v2, v2);
+#ifdef FT_FAULT_RMF_ONE_REFLECTION
+  vec3 r1 = rL;  // forgets the second reflection: the frame drifts about the tangent
+#else
   vec3 r1 = c2 <= 0.0f ? rL : rL - v2 * (2.0f / c2 * dot(v2, rL));
+#endif
   return ftOrthonormalize(r1, t1);
 }
 

@@ -265,7 +265,9 @@ TEST(FiberTable, SortedInsideTheDiskAndDeterministic) {
       EXPECT_LE(a[i].radius, preset.rMax);
       EXPECT_GE(a[i].thetaTurns, 0.0f);
       EXPECT_LT(a[i].thetaTurns, 1.0f);
-      if (i) EXPECT_LE(a[i - 1].radius, a[i].radius);
+      if (i) {
+        EXPECT_LE(a[i - 1].radius, a[i].radius);
+      }
     }
   }
 }

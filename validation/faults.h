@@ -26,6 +26,9 @@ inline constexpr Fault kFaults[] = {
      "ids.mismatched"},
     {"cull-margin", "FT_FAULT_CULL_MARGIN", "frustum test forgets the fibers' reach beyond the yarn axis",
      "decisions.mismatched"},
+    {"rmf-one-reflection", "FT_FAULT_RMF_ONE_REFLECTION",
+     "frame propagation skips the second reflection of the double-reflection method (common/yarn_frame.h)",
+     "normal.max_angle"},
 };
 
 inline const Fault* findFault(std::string_view name) {
