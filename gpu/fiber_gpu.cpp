@@ -126,7 +126,7 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
   bindCommon();
   glUseProgram(framesProgram_);
   setUint(framesProgram_, "curveCount", static_cast<uint32_t>(curveCount_));
-  glDispatchCompute(checkedGroups(curveCount_, FT_WG_FRAMES, 65535, "yarn_frames"), 1, 1);
+  dispatchFlat(framesProgram_, curveCount_, FT_WG_FRAMES, "yarn_frames");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
@@ -154,22 +154,26 @@ void FiberGpu::setSegmentList(std::span<const uint32_t> segments) {
 
 std::vector<FrameNormal> FiberGpu::readFrames() const { return readBack<FrameNormal>(frames_, knotCount_); }
 
-void FiberGpu::generateCompute() {
+void FiberGpu::decideAndScan() {
   bindCommon();
   glUseProgram(decideProgram_);
   setUint(decideProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  glDispatchCompute(checkedGroups(listCount_, FT_WG_DECIDE, 65535, "fiber_decide"), 1, 1);
+  dispatchFlat(decideProgram_, listCount_, FT_WG_DECIDE, "fiber_decide");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(scanProgram_);
   setUint(scanProgram_, "listCount", static_cast<uint32_t>(listCount_));
   glDispatchCompute(1, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+}
+
+void FiberGpu::generateCompute() {
+  decideAndScan();
   // The only CPU–GPU sync of the path: the totals size the output buffers.
   ensureComputeCapacity();
   bindCommon();
   glUseProgram(ownersProgram_);
   setUint(ownersProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  glDispatchCompute(checkedGroups(listCount_, FT_WG_DECIDE, 65535, "fiber_owners"), 1, 1);
+  dispatchFlat(ownersProgram_, listCount_, FT_WG_DECIDE, "fiber_owners");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(samplesProgram_);
   setUint(samplesProgram_, "listCount", static_cast<uint32_t>(listCount_));
@@ -241,15 +245,7 @@ uint32_t FiberGpu::linesPerPatch() const {
 size_t FiberGpu::captureTessellation() {
   // Size the capture from the GPU's own decisions (decide + scan passes); an
   // overflow is still detected below by comparing the two primitive queries.
-  bindCommon();
-  glUseProgram(decideProgram_);
-  setUint(decideProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  glDispatchCompute(checkedGroups(listCount_, FT_WG_DECIDE, 65535, "fiber_decide"), 1, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  glUseProgram(scanProgram_);
-  setUint(scanProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  glDispatchCompute(1, 1, 1);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  decideAndScan();
   const DrawElementsCommand cmd = readDrawCommand();
   const size_t lines = static_cast<size_t>(cmd.vertexTotal) - cmd.stripTotal;
   if (lines > xfbCapacityLines_ || !xfb_) {

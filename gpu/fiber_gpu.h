@@ -4,8 +4,9 @@
 // the fiber-coordinate table.
 //   * tessellation: instanced isoline patches, TCS decides LoD/culling, TES
 //     evaluates fibers, GS expands lines to camera-facing strips;
-//   * compute: decide → scan → generate into a vertex + index buffer and an
-//     indirect draw command; LoD and culling decided on the GPU.
+//   * compute: decide → scan → owners → yarn samples → generate into a vertex
+//     + index buffer and an indirect draw command; LoD and culling decided on
+//     the GPU.
 // Both can hand their vertices back (transform feedback / buffer read-back).
 #pragma once
 #include <epoxy/gl.h>
@@ -80,6 +81,7 @@ class FiberGpu {
                            int width, int height, const RenderStyle& style);
 
  private:
+  void decideAndScan();  // passes 1-2: decisions, offsets and totals of the listed segments
   void ensureComputeCapacity();
   // A flattened dispatch of `items` invocations in groups of `groupSize` (x, then y rows).
   void dispatchFlat(GLuint program, size_t items, size_t groupSize, const char* what);

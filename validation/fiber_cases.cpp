@@ -16,6 +16,7 @@
 #include "reference/fiber_reference.h"
 #include "scene/camera.h"
 #include "validation/harness.h"
+#include "gpu/gpu_timer.h"
 #include "validation/vertex_compare.h"
 
 namespace ft {
@@ -157,21 +158,19 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   gpu.setSegmentList(list);
   std::vector<FiberVertex> gpuVertices;
   std::vector<SegmentDecision> gpuDecisions;
-  glFinish();
-  const auto t0 = Clock::now();
+  GpuTimer timer(ctx.gl());  // glFinish + clock on llvmpipe, timer queries on real GPUs
+  timer.begin();
   if (spec.tessellation) {
     gpu.captureTessellation();
-    glFinish();
-    r.gpuMilliseconds = msSince(t0);
+    r.gpuMilliseconds = timer.endMs();
     gpuVertices = gpu.readTessellationLines();
   } else {
     gpu.generateCompute();
-    glFinish();
-    r.gpuMilliseconds = msSince(t0);
+    r.gpuMilliseconds = timer.endMs();
     gpuDecisions = gpu.readDecisions();
     gpuVertices = gpu.readComputeVertices();
   }
-  r.gpuTiming = "glFinish+steady_clock";
+  r.gpuTiming = timer.method();
 
   // Segments whose decision sits on a rounding boundary are left out of the
   // exact comparisons (and counted).
@@ -275,18 +274,12 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
 
   // Thumbnails: the CPU stream and the GPU path's own rendering, same camera.
   if (o.images && (!r.pass || spec.preset == ctx.presets().front())) {
-    Camera thumb = camera;
-    thumb.width = o.imageWidth;
-    thumb.height = o.imageHeight;
-    const ViewParams tv = makeViewParams(thumb, o.lodThresholdPx, true, true);
-    gpu.setParams(params, tv);
-    // The CPU image reuses the LoD decisions of the harness view: draw it with them.
-    std::vector<SegmentDecision> visibleDecisions = cpu.geometry.decisions;
+    // Both images use the comparison's view and decisions (a thumbnail of
+    // another aspect ratio would stretch).
     const std::string stem = name;
-    r.images.push_back(ctx.saveImage(gpu.renderVertices(cpu.geometry.vertices, visibleDecisions, o.imageWidth,
-                                                        o.imageHeight, RenderStyle{}),
+    r.images.push_back(ctx.saveImage(gpu.renderVertices(cpu.geometry.vertices, cpu.geometry.decisions,
+                                                        o.imageWidth, o.imageHeight, RenderStyle{}),
                                      stem + "-cpu"));
-    gpu.setParams(params, view);  // the GPU image with the same decisions as the comparison
     RgbaImage g = spec.tessellation ? gpu.renderTessellation(o.imageWidth, o.imageHeight, RenderStyle{})
                                     : gpu.renderCompute(o.imageWidth, o.imageHeight, RenderStyle{});
     r.images.push_back(ctx.saveImage(g, stem + "-gpu"));

@@ -3,6 +3,7 @@
 // so no invocation idles on culled segments or dropped LoD fibers. Each
 // writes its fiber's vertices in canonical order and its line-strip indices.
 #include "shaders/fiber_resources.glsl"
+#include "shaders/flat_dispatch.glsl"
 
 layout(local_size_x = FT_WG_GENERATE) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
@@ -16,7 +17,7 @@ uniform uint stripTotal;
 uniform uint groupsX;  // work groups along x per y row
 
 void main() {
-  uint global = (gl_WorkGroupID.y * groupsX + gl_WorkGroupID.x) * FT_WG_GENERATE + gl_LocalInvocationID.x;
+  uint global = flatInvocationIndex(groupsX, FT_WG_GENERATE);
   if (global >= stripTotal) return;
   uint i = stripOwner[global];
   SegmentDecision d = decisions[i];

@@ -3,6 +3,7 @@
 // fiber of every ply at that parameter reads it in pass 4 instead of
 // re-evaluating the cubic and its frame. Samples are numbered by the scan.
 #include "shaders/fiber_resources.glsl"
+#include "shaders/flat_dispatch.glsl"
 
 layout(local_size_x = FT_WG_SAMPLES) in;
 layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
@@ -14,7 +15,7 @@ uniform uint sampleTotal;
 uniform uint groupsX;  // work groups along x per y row
 
 void main() {
-  uint global = (gl_WorkGroupID.y * groupsX + gl_WorkGroupID.x) * FT_WG_SAMPLES + gl_LocalInvocationID.x;
+  uint global = flatInvocationIndex(groupsX, FT_WG_SAMPLES);
   if (global >= sampleTotal) return;
   uint i = sampleOwner[global];
   samples[global] = ftYarnSample(loadSegment(segmentList[i]), decisions[i], global - offsets[i].w);

@@ -2,13 +2,15 @@
 // computeKnotFramesCpu() (reference/fiber_reference.cpp), same statements.
 #define FT_FRAMES_WRITABLE
 #include "shaders/fiber_resources.glsl"
+#include "shaders/flat_dispatch.glsl"
 
 layout(local_size_x = FT_WG_FRAMES) in;
 layout(std430, binding = FT_SSBO_FRAMES) buffer FrameBuffer { FrameNormal frames[]; };
 uniform uint curveCount;
+uniform uint groupsX;  // work groups along x per y row
 
 void main() {
-  uint ci = gl_GlobalInvocationID.x;
+  uint ci = flatInvocationIndex(groupsX, FT_WG_FRAMES);
   if (ci >= curveCount) return;
   CurveInfo c = curves[ci];
   uint segments = ftCurveSegmentCount(c);
