@@ -110,13 +110,15 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
        "td,th{border:1px solid #ccc;padding:3px 6px;vertical-align:top}th{background:#eee}"
        ".ok{color:#060;font-weight:bold}.fail{color:#b00;font-weight:bold}.hist rect{fill:#48c}"
        ".hist text{font-size:9px}img{border:1px solid #999;margin-right:4px}pre{margin:0;font-size:11px}"
-       "td.num{text-align:right;font-family:monospace}</style></head><body>\n";
+       "td.num{text-align:right;font-family:monospace}td.imgs{white-space:nowrap}figure{display:inline-block;margin:0 4px 0 0}"
+       "figcaption{font-size:11px;color:#555}</style></head><body>\n";
   h << fmt::format("<h1>fibertwin validate — {}</h1>\n", escape(model));
   h << fmt::format("<p><b>{}</b> of {} cases passed{} in {:.1f} s. Renderer: {} ({}, {}, {}).</p>\n", passed,
                    run.results.size(), options.inject.empty() ? "" : ", injected fault <b>" + options.inject + "</b>",
                    run.seconds, escape(gl.renderer), escape(gl.vendor), escape(gl.version), escape(gl.backend));
   h << "<p>Each case compares the CPU reference with one GPU path. Metrics in <i>italics</i> are informational. "
-       "The histogram shows per-vertex position errors by decade (1e-10 … 1e0, world units).</p>\n";
+       "The histogram shows per-vertex errors by decade, 1e-10 … 1e0 (world units; radians for frames). "
+       "Thumbnails: the CPU reference's vertices, then the GPU path's own rendering, same view.</p>\n";
   h << "<table><tr><th>case</th><th>result</th><th>metrics (value ≤ tolerance)</th><th>error histogram</th>"
        "<th>CPU / GPU</th><th>ms (cpu / gpu)</th></tr>\n";
   for (const CaseResult& r : run.results) {
@@ -130,8 +132,10 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
         << "</div>";
     }
     if (!r.details.empty()) h << "<details><summary>first differences</summary><pre>" << escape(r.details) << "</pre></details>";
-    h << "</td><td>" << histogramSvg(r.histogram) << "</td><td>";
-    for (const std::string& img : r.images) h << "<img src='" << escape(img) << "' width='192'>";
+    h << "</td><td>" << histogramSvg(r.histogram) << "</td><td class='imgs'>";
+    for (size_t i = 0; i < r.images.size(); ++i)
+      h << "<figure><img src='" << escape(r.images[i]) << "' width='192'><figcaption>"
+        << (i == 0 ? "CPU reference" : "GPU " + r.path) << "</figcaption></figure>";
     h << fmt::format("</td><td class='num'>{:.1f} / {:.1f}</td></tr>\n", r.cpuMilliseconds, r.gpuMilliseconds);
   }
   h << "</table><h2>Injectable faults</h2><ul>";
