@@ -3,8 +3,8 @@
 #   1. release build: every ctest (CPU units, GPU kernels on llvmpipe, the
 #      harness on the default scene and on glove.bcc, fault injection, shaders
 #      through glslangValidator);
-#   2. AddressSanitizer + UBSan build: the input readers and the command line
-#      on malformed files;
+#   2. AddressSanitizer + UBSan build: the input readers (BCC, presets, stitch
+#      meshes) and the command line on malformed files;
 #   3. clang libFuzzer build: a bounded fuzz run of the BCC reader.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,7 +18,7 @@ ctest --preset release -j "$jobs"
 
 echo "== AddressSanitizer + UBSan: input handling"
 cmake --preset asan
-cmake --build --preset asan --target bcc_reader_test yarn_preset_test fibertwin
+cmake --build --preset asan --target bcc_reader_test yarn_preset_test stitch_mesh_test fibertwin
 ASAN_OPTIONS=detect_leaks=0 ctest --preset asan -L input -j "$jobs"
 
 echo "== libFuzzer: bounded run of the BCC reader"
