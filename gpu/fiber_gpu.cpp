@@ -14,7 +14,10 @@ namespace {
 GLuint makeBuffer(size_t bytes, const void* data = nullptr) {
   GLuint b = 0;
   glCreateBuffers(1, &b);
-  glNamedBufferData(b, static_cast<GLsizeiptr>(std::max<size_t>(bytes, 16)), data, GL_DYNAMIC_DRAW);
+  // Never empty (binding a zero-size buffer is an error); upload only the
+  // caller's bytes (ASan caught a 16-byte read of an 8-byte table).
+  glNamedBufferData(b, static_cast<GLsizeiptr>(std::max<size_t>(bytes, 16)), nullptr, GL_DYNAMIC_DRAW);
+  if (data && bytes) glNamedBufferSubData(b, 0, static_cast<GLsizeiptr>(bytes), data);
   return b;
 }
 

@@ -4,7 +4,8 @@
 #      harness on the default scene and on glove.bcc, fault injection, shaders
 #      through glslangValidator);
 #   2. AddressSanitizer + UBSan build: the input readers (BCC, presets, stitch
-#      meshes) and the command line on malformed files;
+#      meshes), the command line on malformed files, the GPU kernels' host code
+#      and the harness on the built-in scene (labels input and asan);
 #   3. clang libFuzzer build: a bounded fuzz run of the BCC reader.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,10 +17,11 @@ cmake --preset release
 cmake --build --preset release
 ctest --preset release -j "$jobs"
 
-echo "== AddressSanitizer + UBSan: input handling"
+echo "== AddressSanitizer + UBSan: input handling, GPU host code, the harness"
 cmake --preset asan
-cmake --build --preset asan --target bcc_reader_test yarn_preset_test stitch_mesh_test fibertwin
-ASAN_OPTIONS=detect_leaks=0 ctest --preset asan -L input -j "$jobs"
+cmake --build --preset asan --target bcc_reader_test yarn_preset_test stitch_mesh_test fiber_gpu_test fibertwin
+# Leak checking is off: Mesa's driver keeps allocations alive until exit.
+ASAN_OPTIONS=detect_leaks=0 ctest --preset asan -L "input|asan" -j "$jobs"
 
 echo "== libFuzzer: bounded run of the BCC reader"
 cmake --preset fuzz
