@@ -8,6 +8,7 @@
 #define FT_UBO_YARN_PARAMS 0
 #define FT_UBO_VIEW_PARAMS 1
 #define FT_UBO_DISPATCH 2
+#define FT_UBO_KNIT_PARAMS 3
 
 // Shader-storage bindings (std430).
 #define FT_SSBO_CONTROL_POINTS 0
@@ -25,6 +26,11 @@
 #define FT_SSBO_SAMPLES 12
 #define FT_SSBO_STRIP_OWNERS 13
 #define FT_SSBO_SAMPLE_OWNERS 14
+#define FT_SSBO_KNIT_STITCHES 15
+#define FT_SSBO_KNIT_POINTS 16
+#define FT_SSBO_KNIT_ENERGY 17
+#define FT_SSBO_KNIT_YARN_LIST 18
+#define FT_SSBO_KNIT_VERTICES 19
 
 // Work-group sizes (local_size_x).
 #define FT_WG_FRAMES 64
@@ -32,6 +38,8 @@
 #define FT_WG_SCAN 1024
 #define FT_WG_GENERATE 64
 #define FT_WG_SAMPLES 64
+#define FT_WG_KNIT 64
+#define FT_WG_KNIT_UPSAMPLE 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

@@ -884,7 +884,7 @@ glm::dmat2 faceDeformationGradient(const StitchMesh& rest, const StitchMesh& def
   return gradient(rest, deformed, face, r, d);
 }
 
-std::vector<glm::dmat2> faceDeformationGradients(const StitchMesh& rest, const StitchMesh& deformed) {
+std::vector<FaceDeformation> faceDeformations(const StitchMesh& rest, const StitchMesh& deformed) {
   checkSameSizes(rest, deformed);
   for (uint32_t f = 0; f < rest.faces.size(); ++f) {
     checkIndices(rest, f);
@@ -895,12 +895,19 @@ std::vector<glm::dmat2> faceDeformationGradients(const StitchMesh& rest, const S
   std::vector<uint32_t> rindex, dindex;
   vertexAreaSums(rest, rsum, rindex, nullptr);
   vertexAreaSums(deformed, dsum, dindex, nullptr);
-  std::vector<glm::dmat2> out(rest.faces.size());
+  std::vector<FaceDeformation> out(rest.faces.size());
   for (uint32_t f = 0; f < rest.faces.size(); ++f) {
-    const FaceFrame2D r = orientedFrame(rest, f, neighbourOrientation(rest, f, rsum, rindex));
-    const FaceFrame2D d = orientedFrame(deformed, f, neighbourOrientation(deformed, f, dsum, dindex));
-    out[f] = gradient(rest, deformed, f, r, d);
+    FaceDeformation& o = out[f];
+    o.rest = orientedFrame(rest, f, neighbourOrientation(rest, f, rsum, rindex));
+    o.deformed = orientedFrame(deformed, f, neighbourOrientation(deformed, f, dsum, dindex));
+    o.F = gradient(rest, deformed, f, o.rest, o.deformed);
   }
+  return out;
+}
+
+std::vector<glm::dmat2> faceDeformationGradients(const StitchMesh& rest, const StitchMesh& deformed) {
+  std::vector<glm::dmat2> out;
+  for (const FaceDeformation& d : faceDeformations(rest, deformed)) out.push_back(d.F);
   return out;
 }
 

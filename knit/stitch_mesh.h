@@ -149,5 +149,11 @@ FaceFrame2D faceFrame2D(const StitchMesh& mesh, uint32_t face);
 glm::dmat2 faceDeformationGradient(const StitchMesh& rest, const StitchMesh& deformed, uint32_t face);
 // All faces at once (linear time: neighbour normals are summed once).
 std::vector<glm::dmat2> faceDeformationGradients(const StitchMesh& rest, const StitchMesh& deformed);
+// The same, with both faces' frames (same checks and errors).
+struct FaceDeformation {
+  FaceFrame2D rest, deformed;
+  glm::dmat2 F;
+};
+std::vector<FaceDeformation> faceDeformations(const StitchMesh& rest, const StitchMesh& deformed);
 
 }  // namespace ft

@@ -1,0 +1,316 @@
+// knit_solver.h — knot-based yarn optimization of one stitch tile
+// (001_dce8d4d1f783b802.txt §3.2, §5.2), written once for both precisions.
+//
+// Precision-generic: this file has no include guard and uses the scalar and
+// vector types kreal, kvec2, kvec3, kvec4 and the constructor KR(x), which the
+// includer defines first:
+//   * GLSL: #define kreal float, kvec2 vec2, ..., KR(x) float(x)
+//   * C++: knit/knit_solver.h includes it twice, inside namespace ft::knit64
+//     (double, the CPU reference) and ft::knit32 (float, for diagnosing the
+//     GPU twin), with typedefs and KR(x) = kreal(x).
+// Include it at most once per namespace (C++) or shader (GLSL).
+// Tile layout and notation: knit_stitch.h.
+#include "prelude.h"
+#include "knit_stitch.h"
+
+// Gauss–Newton state of one tile (§5.2): points in the face frame, xy in the
+// plane and z along the normal (the template-prescribed offset).
+struct KnitProblem {
+  kvec2 knot[2];
+  kvec4 theta0;                       // (θ_L, θ_R, l_L, l_R)
+  kvec2 fixedXY[FT_KNIT_FIXED_POINTS];  // S, A, halo 14..19
+  kreal fixedH[FT_KNIT_FIXED_POINTS];
+  kreal restLength[FT_KNIT_LENGTH_RESIDUALS];
+  kreal restCosine[FT_KNIT_ANGLE_RESIDUALS];
+  kreal radius;  // r
+  kreal side;    // +1 knit, -1 purl: the sign of every normal offset
+};
+
+struct KnitTileResult {
+  kvec3 p[FT_KNIT_TILE_POINTS];  // face frame
+  kvec4 theta;
+  kreal energy[FT_KNIT_MAX_ITERATIONS + 1];  // eq. 3 before each iteration and after the last
+  uint steps;                                 // iterations that changed Θ
+};
+
+// Per point i of the tile: ivec4(knot j, s_d, s_b, s_n), the point being
+// x_k + s_d l d + s_b r b + s_n r n (eq. 1–2); j = -1 for the fixed S and A.
+FT_FUNC ivec4 knitPointCode(int i) {
+  if (i == 1) return ivec4(0, -1, 0, -1);   // c1-
+  if (i == 2) return ivec4(0, 0, 1, 0);     // p0
+  if (i == 3) return ivec4(0, 1, 0, 1);     // c0+
+  if (i == 4) return ivec4(0, -1, 0, 1);    // c1+
+  if (i == 5) return ivec4(0, 0, -1, 0);    // p1
+  if (i == 6) return ivec4(0, 1, 0, -1);    // c0-
+  if (i == 8) return ivec4(1, 1, 0, -1);    // c0-
+  if (i == 9) return ivec4(1, 0, 1, 0);     // p0
+  if (i == 10) return ivec4(1, -1, 0, 1);   // c1+
+  if (i == 11) return ivec4(1, 1, 0, 1);    // c0+
+  if (i == 12) return ivec4(1, 0, -1, 0);   // p1
+  if (i == 13) return ivec4(1, -1, 0, -1);  // c1-
+  return ivec4(-1, 0, 0, 0);
+}
+
+// Index into KnitProblem::fixedXY of a fixed point (tile 0, tile 7, halo 14..20).
+FT_FUNC int knitFixedSlot(int i) {
+  if (i == 0) return 0;
+  if (i == 7) return 1;
+  return i - 12;
+}
+
+// Chain c (0..2) has knitChainLength(c) points; knitChainPoint(c, j) is a
+// point index 0..20 (knit_stitch.h).
+FT_FUNC int knitChainLength(int c) { return c == 1 ? 9 : 6; }
+FT_FUNC int knitChainPoint(int c, int j) {
+  int last = knitChainLength(c) - 1;
+  if (c == 0) return j == 0 ? 14 : (j == last ? 15 : j - 1);
+  if (c == 1) return j == 0 ? 16 : (j == last ? 17 : j + 3);
+  return j == 0 ? 18 : (j <= 3 ? j + 10 : j + 15);
+}
+
+FT_FUNC kvec2 knitDirection(kreal theta) { return kvec2(cos(theta), sin(theta)); }
+
+// Point i (0..20) for parameters t, and its derivatives with respect to the
+// two parameters of its knot: dTheta (θ_j) and dLength (l_j).
+struct KnitPointJet {
+  kvec3 x;
+  kvec3 dTheta;
+  kvec3 dLength;
+  int knot;  // -1: fixed
+};
+
+FT_FUNC KnitPointJet knitPoint(KnitProblem pr, kvec4 t, int i) {
+  KnitPointJet o;
+  ivec4 code = knitPointCode(i);
+  o.knot = code.x;
+  o.dTheta = kvec3(KR(0.0), KR(0.0), KR(0.0));
+  o.dLength = kvec3(KR(0.0), KR(0.0), KR(0.0));
+  if (code.x < 0) {
+    int s = knitFixedSlot(i);
+    o.x = kvec3(pr.fixedXY[s].x, pr.fixedXY[s].y, pr.fixedH[s]);
+    return o;
+  }
+  kreal theta = code.x == 0 ? t.x : t.y;
+  kreal len = code.x == 0 ? t.z : t.w;
+  kvec2 d = knitDirection(theta);
+  kvec2 b = kvec2(d.y, -d.x);    // b = d × n with n = +z of the frame
+  kvec2 dd = kvec2(-d.y, d.x);   // ∂d/∂θ
+  kreal sd = kreal(code.y);
+  kreal sb = kreal(code.z);
+#ifdef FT_FAULT_KNIT_CONSTRAINT_DROPPED
+  // Planted fault: p0/p1 keep the interpolated contact direction instead of
+  // following θ, dropping the perpendicularity constraint of eq. 4.
+  kvec2 b0 = kvec2(sin(pr.theta0[code.x]), -cos(pr.theta0[code.x]));
+  kvec2 xy = pr.knot[code.x] + sd * len * d + sb * pr.radius * b0;
+  kvec2 dbTheta = kvec2(KR(0.0), KR(0.0));
+#else
+  kvec2 xy = pr.knot[code.x] + sd * len * d + sb * pr.radius * b;
+  kvec2 dbTheta = d;  // ∂b/∂θ
+#endif
+  o.x = kvec3(xy.x, xy.y, kreal(code.w) * pr.radius * pr.side);
+  kvec2 gT = sd * len * dd + sb * pr.radius * dbTheta;
+  kvec2 gL = sd * d;
+  o.dTheta = kvec3(gT.x, gT.y, KR(0.0));
+  o.dLength = kvec3(gL.x, gL.y, KR(0.0));
+  return o;
+}
+
+// Column of a jet's derivative for parameter p (0: θ_L, 1: θ_R, 2: l_L, 3: l_R).
+FT_FUNC kvec3 knitJetColumn(KnitPointJet q, int p) {
+  if (q.knot < 0) return kvec3(KR(0.0), KR(0.0), KR(0.0));
+  if (p == q.knot) return q.dTheta;
+  if (p == q.knot + 2) return q.dLength;
+  return kvec3(KR(0.0), KR(0.0), KR(0.0));
+}
+
+// Segment lengths and interior-point cosines of the three chains, in the
+// residual order of knitNormalEquations: the rest values of eq. 5–6 come from
+// the template measured with this.
+struct KnitMeasures {
+  kreal length[FT_KNIT_LENGTH_RESIDUALS];
+  kreal cosine[FT_KNIT_ANGLE_RESIDUALS];
+};
+
+FT_FUNC KnitMeasures knitMeasure(KnitProblem pr, kvec4 t) {
+  KnitMeasures m;
+  int li = 0;
+  int ai = 0;
+  for (int c = 0; c < 3; ++c) {
+    int n = knitChainLength(c);
+    for (int j = 0; j + 1 < n; ++j) {
+      kvec3 a = knitPoint(pr, t, knitChainPoint(c, j)).x;
+      kvec3 b = knitPoint(pr, t, knitChainPoint(c, j + 1)).x;
+      kvec3 e = b - a;
+      m.length[li] = sqrt(dot(e, e));
+      ++li;
+      if (j + 2 < n) {
+        kvec3 f = knitPoint(pr, t, knitChainPoint(c, j + 2)).x - b;
+        m.cosine[ai] = dot(e, f) / (sqrt(dot(e, e)) * sqrt(dot(f, f)));
+        ++ai;
+      }
+    }
+  }
+  return m;
+}
+
+// The normal equations of one Gauss–Newton step (§5.2): A = Σ J Jᵀ and
+// g = Σ J r over the residuals r = √w (value − rest) of eq. 5 (angles, at each
+// interior chain point) and eq. 6 (lengths, each chain segment); energy = Σ r²
+// is eq. 3.
+struct KnitNormalEquations {
+  kreal a[16];
+  kvec4 g;
+  kreal energy;
+};
+
+FT_FUNC KnitNormalEquations knitNormalEquations(KnitProblem pr, kvec4 t, kreal wAngle, kreal wLength) {
+  KnitNormalEquations ne;
+  for (int k = 0; k < 16; ++k) ne.a[k] = KR(0.0);
+  ne.g = kvec4(KR(0.0), KR(0.0), KR(0.0), KR(0.0));
+  ne.energy = KR(0.0);
+  kreal sa = sqrt(wAngle);
+#ifdef FT_FAULT_KNIT_LENGTH_WEIGHT
+  kreal sl = wLength;  // planted fault: the weight itself used where eq. 3 needs its root
+#else
+  kreal sl = sqrt(wLength);
+#endif
+  int angleIndex = 0;
+  int lengthIndex = 0;
+  for (int c = 0; c < 3; ++c) {
+    int n = knitChainLength(c);
+    KnitPointJet q0 = knitPoint(pr, t, knitChainPoint(c, 0));
+    KnitPointJet q1 = knitPoint(pr, t, knitChainPoint(c, 1));
+    KnitPointJet q2 = q1;
+    for (int j = 0; j + 1 < n; ++j) {
+      kvec3 e = q1.x - q0.x;
+      kreal len = sqrt(dot(e, e));
+      kvec3 u = e / len;
+      // Eq. 6: r = √w_length (|e| − |e0|), ∂r/∂Θ = √w_length û·(∂q1 − ∂q0).
+      kreal r = sl * (len - pr.restLength[lengthIndex]);
+      kvec4 J;
+      for (int p = 0; p < 4; ++p) J[p] = sl * dot(u, knitJetColumn(q1, p) - knitJetColumn(q0, p));
+#ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
+      // Planted fault: the θ_L and l_L columns of the Jacobian swapped.
+      kreal swapTmp = J.x;
+      J.x = J.z;
+      J.z = swapTmp;
+#endif
+      for (int p = 0; p < 4; ++p)
+        for (int s = 0; s < 4; ++s) ne.a[p * 4 + s] += J[p] * J[s];
+      ne.g += J * r;
+      ne.energy += r * r;
+      ++lengthIndex;
+      if (j + 2 < n) {
+        // Eq. 5 at the interior point q1, between segments e (q0→q1) and f (q1→q2).
+        q2 = knitPoint(pr, t, knitChainPoint(c, j + 2));
+        kvec3 f = q2.x - q1.x;
+        kreal lf = sqrt(dot(f, f));
+        kvec3 v = f / lf;
+        kreal cosine = dot(u, v);
+        kreal ra = sa * (cosine - pr.restCosine[angleIndex]);
+        // ∂cos/∂e = (v − cos u)/|e|, ∂cos/∂f = (u − cos v)/|f|.
+        kvec3 ge = (v - cosine * u) / len;
+        kvec3 gf = (u - cosine * v) / lf;
+        kvec4 Ja;
+        for (int p = 0; p < 4; ++p) {
+          kvec3 d0 = knitJetColumn(q0, p);
+          kvec3 d1 = knitJetColumn(q1, p);
+          kvec3 d2 = knitJetColumn(q2, p);
+          Ja[p] = sa * (dot(ge, d1 - d0) + dot(gf, d2 - d1));
+        }
+#ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
+        swapTmp = Ja.x;
+        Ja.x = Ja.z;
+        Ja.z = swapTmp;
+#endif
+        for (int p = 0; p < 4; ++p)
+          for (int s = 0; s < 4; ++s) ne.a[p * 4 + s] += Ja[p] * Ja[s];
+        ne.g += Ja * ra;
+        ne.energy += ra * ra;
+        ++angleIndex;
+      }
+      q0 = q1;
+      q1 = q2;
+    }
+  }
+  return ne;
+}
+
+FT_FUNC kreal knitEnergy(KnitProblem pr, kvec4 t, kreal wAngle, kreal wLength) {
+  return knitNormalEquations(pr, t, wAngle, wLength).energy;
+}
+
+// Direct solve of A x = rhs by Cholesky (A is symmetric positive
+// semi-definite); ok = false when a pivot is not positive, e.g. a parameter
+// that no residual sees.
+struct KnitSolve4 {
+  kvec4 x;
+  bool ok;
+};
+
+FT_FUNC KnitSolve4 knitCholeskySolve(kreal a[16], kvec4 rhs) {
+  KnitSolve4 o;
+  o.ok = true;
+  o.x = kvec4(KR(0.0), KR(0.0), KR(0.0), KR(0.0));
+  kreal l[16];
+  for (int k = 0; k < 16; ++k) l[k] = KR(0.0);
+  kreal scale = max(max(a[0], a[5]), max(a[10], a[15]));
+  for (int j = 0; j < 4; ++j) {
+    kreal s = a[j * 4 + j];
+    for (int k = 0; k < j; ++k) s -= l[j * 4 + k] * l[j * 4 + k];
+    if (!(s > scale * KR(1e-12))) {
+      o.ok = false;
+      return o;
+    }
+    kreal d = sqrt(s);
+    l[j * 4 + j] = d;
+    for (int i = j + 1; i < 4; ++i) {
+      kreal t = a[i * 4 + j];
+      for (int k = 0; k < j; ++k) t -= l[i * 4 + k] * l[j * 4 + k];
+      l[i * 4 + j] = t / d;
+    }
+  }
+  kvec4 y = kvec4(KR(0.0), KR(0.0), KR(0.0), KR(0.0));
+  for (int i = 0; i < 4; ++i) {
+    kreal t = rhs[i];
+    for (int k = 0; k < i; ++k) t -= l[i * 4 + k] * y[k];
+    y[i] = t / l[i * 4 + i];
+  }
+  for (int i = 3; i >= 0; --i) {
+    kreal t = y[i];
+    for (int k = i + 1; k < 4; ++k) t -= l[k * 4 + i] * o.x[k];
+    o.x[i] = t / l[i * 4 + i];
+  }
+  return o;
+}
+
+// Three (or `iterations`) Gauss–Newton steps Θ += ΔΘ with A ΔΘ = −g (§5.2),
+// then the tile's points for the final Θ.
+FT_FUNC KnitTileResult knitSolveTile(KnitProblem pr, kreal wAngle, kreal wLength, uint iterations) {
+  KnitTileResult res;
+  kvec4 t = pr.theta0;
+  res.steps = 0u;
+  for (int k = 0; k <= FT_KNIT_MAX_ITERATIONS; ++k) res.energy[k] = KR(0.0);
+  uint it = min(iterations, uint(FT_KNIT_MAX_ITERATIONS));
+  for (uint k = 0u; k < it; ++k) {
+    KnitNormalEquations ne = knitNormalEquations(pr, t, wAngle, wLength);
+    res.energy[k] = ne.energy;
+    KnitSolve4 s = knitCholeskySolve(ne.a, -ne.g);
+    if (s.ok) {
+      t += s.x;
+      res.steps += 1u;
+    }
+  }
+  res.energy[it] = knitEnergy(pr, t, wAngle, wLength);
+  res.theta = t;
+  for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) res.p[i] = knitPoint(pr, t, i).x;
+  return res;
+}
+
+// Uniform Catmull–Rom between p1 and p2 at s in [0, 1): the up-sampling of §5.2.
+FT_FUNC kvec3 knitCatmullRom(kvec3 p0, kvec3 p1, kvec3 p2, kvec3 p3, kreal s) {
+  kreal s2 = s * s;
+  kreal s3 = s2 * s;
+  return KR(0.5) * ((KR(2.0) * p1) + (p2 - p0) * s + (KR(2.0) * p0 - KR(5.0) * p1 + KR(4.0) * p2 - p3) * s2 +
+                    (KR(3.0) * p1 - p0 - KR(3.0) * p2 + p3) * s3);
+}

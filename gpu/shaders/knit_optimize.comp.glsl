@@ -1,0 +1,45 @@
+// Knot-based yarn optimization (001_dce8d4d1f783b802.txt §5.2): one
+// invocation per stitch runs the Gauss–Newton solve of common/knit_solver.h in
+// float and writes the tile's 14 control points in world space.
+#include "shaders/knit_precision.glsl"
+#include "common/constants.h"
+#include "common/knit_solver.h"
+#include "shaders/flat_dispatch.glsl"
+
+layout(local_size_x = FT_WG_KNIT) in;
+layout(std140, binding = FT_UBO_KNIT_PARAMS) uniform KnitParamsBlock { KnitSolveParams knit; };
+layout(std430, binding = FT_SSBO_KNIT_STITCHES) readonly buffer StitchBuffer { KnitStitchGpu stitches[]; };
+layout(std430, binding = FT_SSBO_KNIT_POINTS) writeonly buffer PointBuffer { vec4 points[]; };
+// Per stitch: energies before iterations 0..7 and after the last, then the
+// number of iterations that changed Θ (12 floats).
+layout(std430, binding = FT_SSBO_KNIT_ENERGY) writeonly buffer EnergyBuffer { vec4 energies[]; };
+uniform uint groupsX;
+
+void main() {
+  uint t = flatInvocationIndex(groupsX, FT_WG_KNIT);
+  if (t >= knit.stitchCount) return;
+  KnitStitchGpu s = stitches[t];
+  KnitProblem pr;
+  pr.knot[0] = s.knots.xy;
+  pr.knot[1] = s.knots.zw;
+  pr.theta0 = s.theta0;
+  for (int i = 0; i < FT_KNIT_FIXED_POINTS; ++i) {
+    vec4 xy = s.fixedXY[i / 2];
+    pr.fixedXY[i] = (i % 2) == 0 ? xy.xy : xy.zw;
+    pr.fixedH[i] = s.fixedH[i / 4][i % 4];
+  }
+  for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i) pr.restLength[i] = s.restLength[i / 4][i % 4];
+  for (int i = 0; i < FT_KNIT_ANGLE_RESIDUALS; ++i) pr.restCosine[i] = s.restCosine[i / 4][i % 4];
+  pr.radius = s.misc.x;
+  pr.side = s.misc.y;
+
+  KnitTileResult r = knitSolveTile(pr, knit.wAngle, knit.wLength, knit.iterations);
+  for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) {
+    vec3 p = r.p[i];
+    points[t * uint(FT_KNIT_TILE_POINTS) + uint(i)] =
+        vec4(s.origin.xyz + p.x * s.e1.xyz + p.y * s.e2.xyz + p.z * s.normal.xyz, 1.0);
+  }
+  energies[t * 3u] = vec4(r.energy[0], r.energy[1], r.energy[2], r.energy[3]);
+  energies[t * 3u + 1u] = vec4(r.energy[4], r.energy[5], r.energy[6], r.energy[7]);
+  energies[t * 3u + 2u] = vec4(r.energy[8], float(r.steps), 0.0, 0.0);
+}

@@ -1,0 +1,415 @@
+#include "knit/knit_problem.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "scene/input_error.h"
+
+namespace ft {
+namespace {
+
+using knit64::KnitProblem;
+
+[[noreturn]] void fail(const std::string& message) { throw InputError(message); }
+
+constexpr uint32_t kNone = 0xffffffffu;
+
+// Face neighbours across the four quad edges (kNone at a border): a face above
+// has our top edge v3->v2 as its bottom edge v0->v1, and so on round.
+struct Neighbours {
+  uint32_t down = kNone, right = kNone, up = kNone, left = kNone;
+};
+
+std::vector<Neighbours> quadNeighbours(const StitchMesh& m) {
+  std::map<std::pair<uint32_t, uint32_t>, std::pair<uint32_t, uint32_t>> edges;  // (a, b) -> (face, edge)
+  for (uint32_t f = 0; f < m.faces.size(); ++f)
+    for (uint32_t e = 0; e < 4; ++e) edges[{m.faces[f].v[e], m.faces[f].v[(e + 1) % 4]}] = {f, e};
+  auto across = [&](uint32_t f, uint32_t e, uint32_t wantEdge) {
+    const StitchFace& face = m.faces[f];
+    auto it = edges.find({face.v[(e + 1) % 4], face.v[e]});
+    return it != edges.end() && it->second.second == wantEdge ? it->second.first : kNone;
+  };
+  std::vector<Neighbours> out(m.faces.size());
+  for (uint32_t f = 0; f < m.faces.size(); ++f) {
+    out[f].down = across(f, 0, 2);
+    out[f].right = across(f, 1, 3);
+    out[f].up = across(f, 2, 0);
+    out[f].left = across(f, 3, 1);
+  }
+  return out;
+}
+
+// The face below's top edge extruded by the face's own wale edges: a ghost
+// stitch in the same shape, so the top row's heads have a tile to live in.
+StitchFace addGhostAbove(StitchMesh& m, uint32_t f) {
+  const StitchFace& face = m.faces[f];
+  const glm::dvec3 v0 = m.vertices[face.v[0]], v1 = m.vertices[face.v[1]];
+  const glm::dvec3 v2 = m.vertices[face.v[2]], v3 = m.vertices[face.v[3]];
+  StitchFace g = face;
+  g.v[0] = face.v[3];
+  g.v[1] = face.v[2];
+  g.v[2] = static_cast<uint32_t>(m.vertices.size());
+  m.vertices.push_back(v2 + (v2 - v1));
+  g.v[3] = static_cast<uint32_t>(m.vertices.size());
+  m.vertices.push_back(v3 + (v3 - v0));
+  return g;
+}
+
+// Bilinear map of normalized stitch coordinates over a quad's 2D corners;
+// extrapolates outside [0, 1]², which the halo points use.
+struct Bilinear {
+  glm::dvec2 p[4];
+  glm::dvec2 at(double u, double v) const {
+    return (1 - u) * (1 - v) * p[0] + u * (1 - v) * p[1] + u * v * p[2] + (1 - u) * v * p[3];
+  }
+  glm::dvec2 dv(double u) const { return (1 - u) * (p[3] - p[0]) + u * (p[2] - p[1]); }
+};
+
+double sideOf(StitchType t) { return t == StitchType::Purl ? -1.0 : 1.0; }
+
+glm::dvec2 centroid(const FaceFrame2D& f) {
+  glm::dvec2 c(0.0);
+  for (uint32_t i = 0; i < f.count; ++i) c += f.p[i];
+  return c / double(f.count);
+}
+
+// Where a knot (or anything attached to one) goes in the deformed frame: the
+// mesh-interpolated offset from the face centre, its length blended by β (§6.1).
+struct TileMap {
+  glm::dmat2 F;
+  glm::dvec2 c0, c1;
+  double beta;
+  glm::dvec2 point(glm::dvec2 x) const { return c1 + F * (x - c0); }
+  glm::dvec2 knot(glm::dvec2 k) const {
+    const glm::dvec2 o0 = k - c0, o1 = F * o0;
+    const double l0 = glm::length(o0), l1 = glm::length(o1);
+    if (l1 == 0.0) return c1;
+    return c1 + o1 * ((l0 + beta * (l1 - l0)) / l1);
+  }
+};
+
+// Rest template of one tile and its deformed problem. sides: own, left,
+// right, up, down neighbour (own side where there is none).
+struct TileSides {
+  double own, left, right, up, down;
+};
+
+void buildTile(const FaceFrame2D& restFrame, const TileMap& map, const TileSides& sides, const KnitOptions& o,
+               KnitProblem& restOut, KnitProblem& defOut) {
+  const KnitTemplate& t = o.tile;
+  const double r = o.yarnRadius, l0 = t.halfLength * r;
+  Bilinear B{{restFrame.p[0], restFrame.p[1], restFrame.p[2], restFrame.p[3]}};
+  const double uL = 0.5 - t.knotOffset, uR = 0.5 + t.knotOffset, vk = t.knotHeight;
+  auto knotAt = [&](double u, double v) { return B.at(u, v); };
+  auto dirAt = [&](double u) { return glm::normalize(B.dv(u)); };
+  const glm::dvec2 kL = knotAt(uL, vk), kR = knotAt(uR, vk);
+  const glm::dvec2 dL = dirAt(uL), dR = dirAt(uR);
+
+  KnitProblem& rp = restOut;
+  rp.knot[0] = kL;
+  rp.knot[1] = kR;
+  rp.theta0 = glm::dvec4(std::atan2(dL.y, dL.x), std::atan2(dR.y, dR.x), l0, l0);
+  rp.radius = r;
+  rp.side = sides.own;
+  const double back = -t.backOffset * r;
+  // Fixed slots: S, A, halo 14..19 (knit_stitch.h).
+  const glm::dvec2 S = B.at(0.0, t.sinkerHeight), A = B.at(0.5, t.apexHeight);
+  struct Halo {
+    double u, v, sd, sn, side;  // neighbour knot at (u, v), offset sd·l0·d, normal sn·r·side
+  };
+  const Halo halo[5] = {
+      {uR - 1.0, vk, -1, -1, sides.left},  // 14: left tile's 13 (c1-, R)
+      {uL, vk + 1.0, -1, +1, sides.up},    // 15: upper tile's 4 (c1+, L)
+      {uL, vk - 1.0, +1, +1, sides.down},  // 16: lower tile's 3 (c0+, L)
+      {uR, vk - 1.0, +1, +1, sides.down},  // 17: lower tile's 11 (c0+, R)
+      {uR, vk + 1.0, -1, +1, sides.up},    // 18: upper tile's 10 (c1+, R)
+  };
+  rp.fixedXY[0] = S;
+  rp.fixedH[0] = back * sides.own;
+  rp.fixedXY[1] = A;
+  rp.fixedH[1] = back * sides.own;
+  KnitProblem& dp = defOut;
+  dp.fixedXY[0] = map.point(S);
+  dp.fixedXY[1] = map.point(A);
+  for (int h = 0; h < 5; ++h) {
+    const glm::dvec2 k = B.at(halo[h].u, halo[h].v), d = glm::normalize(B.dv(halo[h].u));
+    rp.fixedXY[2 + h] = k + halo[h].sd * l0 * d;
+    rp.fixedH[2 + h] = halo[h].sn * r * halo[h].side;
+    dp.fixedXY[2 + h] = map.knot(k) + map.F * (halo[h].sd * l0 * d);
+  }
+  const glm::dvec2 S1 = B.at(1.0, t.sinkerHeight);  // 19: right tile's sinker
+  rp.fixedXY[7] = S1;
+  rp.fixedH[7] = back * sides.right;
+  dp.fixedXY[7] = map.point(S1);
+  {  // 20: right tile's 1 (c1-, L)
+    const glm::dvec2 k = B.at(uL + 1.0, vk), d = glm::normalize(B.dv(uL + 1.0));
+    rp.fixedXY[8] = k - l0 * d;
+    rp.fixedH[8] = -r * sides.right;
+    dp.fixedXY[8] = map.knot(k) + map.F * (-l0 * d);
+  }
+
+  const knit64::KnitMeasures rest = knit64::knitMeasure(rp, rp.theta0);
+  for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i) rp.restLength[i] = rest.length[i];
+  for (int i = 0; i < FT_KNIT_ANGLE_RESIDUALS; ++i) rp.restCosine[i] = rest.cosine[i];
+
+  dp.knot[0] = map.knot(kL);
+  dp.knot[1] = map.knot(kR);
+  const glm::dvec2 fL = map.F * dL, fR = map.F * dR;
+  dp.theta0 = glm::dvec4(std::atan2(fL.y, fL.x), std::atan2(fR.y, fR.x), l0 * glm::length(fL),
+                         l0 * glm::length(fR));
+  for (int i = 0; i < FT_KNIT_FIXED_POINTS; ++i) dp.fixedH[i] = rp.fixedH[i];
+  for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i) dp.restLength[i] = rp.restLength[i];
+  for (int i = 0; i < FT_KNIT_ANGLE_RESIDUALS; ++i) dp.restCosine[i] = rp.restCosine[i];
+  dp.radius = r;
+  dp.side = sides.own;
+}
+
+KnitFrame worldFrame(const FaceFrame2D& f) { return {f.origin, f.e1, f.e2, f.normal}; }
+
+bool finiteIn(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
+
+}  // namespace
+
+void validateKnitOptions(const KnitOptions& o) {
+  auto check = [](bool ok, const char* name, double v, const char* range) {
+    if (!ok) fail(fmt::format("{}: {} is out of range ({})", name, v, range));
+  };
+  check(std::isfinite(o.yarnRadius) && o.yarnRadius > 0, "--yarn-radius", o.yarnRadius, "> 0");
+  check(finiteIn(o.beta, 0.0, 1.0), "--beta", o.beta, "0 to 1");
+  check(std::isfinite(o.wAngle) && o.wAngle >= 0, "--w-angle", o.wAngle, ">= 0");
+  check(std::isfinite(o.wLength) && o.wLength >= 0, "--w-length", o.wLength, ">= 0");
+  check(o.wAngle + o.wLength > 0, "--w-angle + --w-length", o.wAngle + o.wLength, "> 0");
+  check(o.iterations >= 0 && o.iterations <= FT_KNIT_MAX_ITERATIONS, "--iterations", o.iterations, "0 to 8");
+}
+
+KnitSetup buildKnitSetup(const StitchMesh& restIn, const StitchMesh& deformedIn, const KnitOptions& options) {
+  validateKnitOptions(options);
+  for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
+    const StitchFace& face = restIn.faces[f];
+    if ((face.type != StitchType::Knit && face.type != StitchType::Purl) || face.count != 4) {
+      fail(fmt::format("{}: face {}{}: {} stitch with {} vertices: the knit optimizer has templates for knit "
+                       "and purl quads only",
+                       restIn.name, f, face.objLine ? fmt::format(" (line {})", face.objLine) : "",
+                       stitchTypeName(face.type), face.count));
+    }
+  }
+  // Frames, gradients and every degenerate-face check on the meshes as given.
+  (void)faceDeformations(restIn, deformedIn);
+
+  const std::vector<Neighbours> nb = quadNeighbours(restIn);
+  StitchMesh rest = restIn, deformed = deformedIn;
+  KnitSetup s;
+  s.name = deformedIn.name;
+  s.options = options;
+  s.stitchCount = static_cast<uint32_t>(restIn.faces.size());
+  std::vector<uint32_t> ghostOf(restIn.faces.size(), kNone);
+  for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
+    s.tileFace.push_back(f);
+  }
+  for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
+    if (nb[f].up != kNone) continue;
+    ghostOf[f] = static_cast<uint32_t>(rest.faces.size());
+    rest.faces.push_back(addGhostAbove(rest, f));
+    deformed.faces.push_back(addGhostAbove(deformed, f));
+    s.tileFace.push_back(f);
+  }
+  const std::vector<FaceDeformation> fd = faceDeformations(rest, deformed);
+
+  const uint32_t tiles = static_cast<uint32_t>(rest.faces.size());
+  s.problems.resize(tiles);
+  s.frames.resize(tiles);
+  for (uint32_t t = 0; t < tiles; ++t) {
+    const uint32_t f = s.tileFace[t];
+    const double own = sideOf(restIn.faces[f].type);
+    TileSides sides{own, own, own, own, own};
+    if (t < s.stitchCount) {
+      if (nb[f].left != kNone) sides.left = sideOf(restIn.faces[nb[f].left].type);
+      if (nb[f].right != kNone) sides.right = sideOf(restIn.faces[nb[f].right].type);
+      if (nb[f].up != kNone) sides.up = sideOf(restIn.faces[nb[f].up].type);
+      if (nb[f].down != kNone) sides.down = sideOf(restIn.faces[nb[f].down].type);
+    }
+    const FaceDeformation& d = fd[t];
+    TileMap map{d.F, centroid(d.rest), centroid(d.deformed), options.beta};
+    KnitProblem restProblem;
+    buildTile(d.rest, map, sides, options, restProblem, s.problems[t]);
+    s.frames[t] = worldFrame(d.deformed);
+  }
+
+  // Row yarns: follow right neighbours from a face with none on its left (or
+  // round a tube); per stitch S, red L, the upper tile's green + apex, red R.
+  std::vector<bool> visited(s.stitchCount, false);
+  auto upTile = [&](uint32_t f) { return nb[f].up != kNone ? nb[f].up : ghostOf[f]; };
+  auto walkRow = [&](uint32_t start) {
+    std::vector<uint32_t> row;
+    uint32_t f = start;
+    while (f != kNone && !visited[f]) {
+      visited[f] = true;
+      row.push_back(f);
+      f = nb[f].right;
+    }
+    return std::make_pair(row, f == start);
+  };
+  std::vector<std::pair<std::vector<uint32_t>, bool>> rows;
+  for (uint32_t f = 0; f < s.stitchCount; ++f)
+    if (nb[f].left == kNone && !visited[f]) rows.push_back(walkRow(f));
+  for (uint32_t f = 0; f < s.stitchCount; ++f)
+    if (!visited[f]) rows.push_back(walkRow(f));  // rows closed round a tube
+  for (const auto& [row, closed] : rows) {
+    KnitYarn y;
+    y.closed = closed;
+    for (uint32_t f : row) {
+      const uint32_t u = upTile(f);
+      for (uint32_t i : {0u, 1u, 2u, 3u}) y.points.push_back(f * FT_KNIT_TILE_POINTS + i);
+      for (uint32_t i = 4; i <= 10; ++i) y.points.push_back(u * FT_KNIT_TILE_POINTS + i);
+      for (uint32_t i : {11u, 12u, 13u}) y.points.push_back(f * FT_KNIT_TILE_POINTS + i);
+    }
+    s.yarns.push_back(std::move(y));
+  }
+  // Cast-on yarns: the heads in faces with no face below, run by run.
+  for (const auto& [row, closed] : rows) {
+    KnitYarn y;
+    auto flush = [&] {
+      if (!y.points.empty()) s.yarns.push_back(std::move(y));
+      y = KnitYarn{};
+    };
+    for (uint32_t f : row) {
+      if (nb[f].down != kNone) {
+        flush();
+        continue;
+      }
+      for (uint32_t i = 4; i <= 10; ++i) y.points.push_back(f * FT_KNIT_TILE_POINTS + i);
+    }
+    const bool allCastOn = y.points.size() == row.size() * 7;
+    y.closed = closed && allCastOn;
+    flush();
+  }
+  return s;
+}
+
+std::vector<glm::dvec3> liftKnitPoints(const KnitSetup& s, const std::vector<glm::dvec3>& p) {
+  std::vector<glm::dvec3> out(p.size());
+  for (size_t i = 0; i < p.size(); ++i) {
+    const KnitFrame& f = s.frames[i / FT_KNIT_TILE_POINTS];
+    out[i] = f.origin + p[i].x * f.e1 + p[i].y * f.e2 + p[i].z * f.n;
+  }
+  return out;
+}
+
+std::vector<glm::dvec3> initialKnitPoints(const KnitSetup& s) {
+  std::vector<glm::dvec3> out;
+  out.reserve(size_t(s.tileCount()) * FT_KNIT_TILE_POINTS);
+  for (const KnitProblem& p : s.problems)
+    for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) out.push_back(knit64::knitPoint(p, p.theta0, i).x);
+  return out;
+}
+
+YarnModel knitYarnModel(const KnitSetup& s, const std::vector<glm::dvec3>& world, bool upsample) {
+  YarnModel m;
+  m.name = s.name;
+  for (const KnitYarn& y : s.yarns) {
+    YarnCurve c;
+    c.closed = y.closed;
+    const int n = static_cast<int>(y.points.size());
+    auto at = [&](int i) -> glm::dvec3 {
+      if (y.closed) return world[y.points[(i % n + n) % n]];
+      if (i < 0) return 2.0 * world[y.points[0]] - world[y.points[1]];
+      if (i >= n) return 2.0 * world[y.points[n - 1]] - world[y.points[n - 2]];
+      return world[y.points[i]];
+    };
+    const int segments = y.closed ? n : n - 1;
+    for (int i = 0; i < segments; ++i) {
+      if (!upsample) {
+        c.points.push_back(glm::vec3(at(i)));
+        continue;
+      }
+      for (int k = 0; k < FT_KNIT_UPSAMPLE; ++k)
+        c.points.push_back(
+            glm::vec3(knit64::knitCatmullRom(at(i - 1), at(i), at(i + 1), at(i + 2), double(k) / FT_KNIT_UPSAMPLE)));
+    }
+    if (!y.closed) c.points.push_back(glm::vec3(at(n - 1)));
+    m.curves.push_back(std::move(c));
+  }
+  return m;
+}
+
+std::vector<glm::uvec4> knitYarnList(const KnitSetup& s) {
+  std::vector<glm::uvec4> out;
+  for (const KnitYarn& y : s.yarns) {
+    const uint32_t first = static_cast<uint32_t>(out.size()), n = static_cast<uint32_t>(y.points.size());
+    for (uint32_t p : y.points) out.emplace_back(p, first, n, y.closed ? 1u : 0u);
+  }
+  return out;
+}
+
+YarnModel knitYarnModelFromVertices(const KnitSetup& s, const std::vector<glm::vec4>& vertices) {
+  YarnModel m;
+  m.name = s.name;
+  size_t first = 0;
+  for (const KnitYarn& y : s.yarns) {
+    YarnCurve c;
+    c.closed = y.closed;
+    const size_t n = y.points.size();
+    const size_t segments = y.closed ? n : n - 1;
+    for (size_t i = 0; i < segments; ++i)
+      for (int k = 0; k < FT_KNIT_UPSAMPLE; ++k) c.points.push_back(glm::vec3(vertices[(first + i) * FT_KNIT_UPSAMPLE + k]));
+    if (!y.closed) c.points.push_back(glm::vec3(vertices[(first + n - 1) * FT_KNIT_UPSAMPLE]));
+    m.curves.push_back(std::move(c));
+    first += n;
+  }
+  return m;
+}
+
+std::vector<KnitStitchGpu> knitGpuRecords(const KnitSetup& s) {
+  std::vector<KnitStitchGpu> out(s.tileCount());
+  for (uint32_t t = 0; t < s.tileCount(); ++t) {
+    const KnitProblem& p = s.problems[t];
+    const KnitFrame& f = s.frames[t];
+    KnitStitchGpu& g = out[t];
+    g = KnitStitchGpu{};
+    g.origin = glm::vec4(glm::vec3(f.origin), 0.0f);
+    g.e1 = glm::vec4(glm::vec3(f.e1), 0.0f);
+    g.e2 = glm::vec4(glm::vec3(f.e2), 0.0f);
+    g.normal = glm::vec4(glm::vec3(f.n), 0.0f);
+    g.knots = glm::vec4(p.knot[0].x, p.knot[0].y, p.knot[1].x, p.knot[1].y);
+    g.theta0 = glm::vec4(p.theta0);
+    for (int i = 0; i < FT_KNIT_FIXED_POINTS; ++i) {
+      g.fixedXY[i / 2][(i % 2) * 2] = float(p.fixedXY[i].x);
+      g.fixedXY[i / 2][(i % 2) * 2 + 1] = float(p.fixedXY[i].y);
+      g.fixedH[i / 4][i % 4] = float(p.fixedH[i]);
+    }
+    for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i) g.restLength[i / 4][i % 4] = float(p.restLength[i]);
+    for (int i = 0; i < FT_KNIT_ANGLE_RESIDUALS; ++i) g.restCosine[i / 4][i % 4] = float(p.restCosine[i]);
+    g.misc = glm::vec4(float(p.radius), float(p.side), 0.0f, 0.0f);
+  }
+  return out;
+}
+
+KnitSolveParams knitSolveParams(const KnitSetup& s) {
+  return KnitSolveParams{float(s.options.wAngle), float(s.options.wLength), uint32_t(s.options.iterations),
+                         s.tileCount()};
+}
+
+KnitConstraintResiduals knitConstraintResiduals(const KnitSetup& s, uint32_t tile, const glm::dvec3* x) {
+  const KnitProblem& p = s.problems[tile];
+  const KnitFrame& f = s.frames[tile];
+  const double r = p.radius;
+  KnitConstraintResiduals out;
+  // Per knot: the tile indices of c0+, c0-, c1+, c1-, p0, p1.
+  const int idx[2][6] = {{3, 6, 4, 1, 2, 5}, {11, 8, 10, 13, 9, 12}};
+  for (int j = 0; j < 2; ++j) {
+    const glm::dvec3 k = f.origin + p.knot[j].x * f.e1 + p.knot[j].y * f.e2;
+    const glm::dvec3 c0 = 0.5 * (x[idx[j][0]] + x[idx[j][1]]), c1 = 0.5 * (x[idx[j][2]] + x[idx[j][3]]);
+    const glm::dvec3 p0 = x[idx[j][4]], p1 = x[idx[j][5]];
+    const double l = glm::length(c0 - k);
+    out.midpointContact = std::max(out.midpointContact, glm::length(0.5 * (c0 + c1) - k));
+    out.midpointControl = std::max(out.midpointControl, glm::length(0.5 * (p0 + p1) - k));
+    out.controlDistance = std::max(out.controlDistance, std::abs(glm::length(p0 - p1) - 2.0 * r));
+    out.perpendicularity = std::max(out.perpendicularity, std::abs(glm::dot(k - p0, c0 - k)) / (r * l));
+  }
+  return out;
+}
+
+}  // namespace ft

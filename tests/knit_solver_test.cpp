@@ -1,0 +1,164 @@
+// The shared knit solver (common/knit_solver.h) and the CPU reference: the
+// analytic Jacobian against finite differences, the template at rest, the
+// Gauss–Newton descent, eq. 4 by construction, yarn assembly and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "knit/knit_problem.h"
+#include "reference/knit_reference.h"
+#include "scene/input_error.h"
+
+namespace ft {
+namespace {
+
+KnitSetup stretched(int rows, int cols, Deformation d, KnitOptions o = {}) {
+  const StitchMesh rest = makeStockinette(rows, cols);
+  return buildKnitSetup(rest, deform(rest, d), o);
+}
+
+double totalEnergy(const KnitSetup& s, bool initial) {
+  double e = 0;
+  for (const auto& p : s.problems) {
+    const glm::dvec4 t = initial ? p.theta0 : p.theta0;
+    e += knit64::knitEnergy(p, t, s.options.wAngle, s.options.wLength);
+  }
+  return e;
+}
+
+// The Jacobian rows of knitNormalEquations are checked through g = Σ J r =
+// ∇E / 2 against central differences of E (eq. 3); tolerance: the difference
+// quotient's truncation error, O(h²) relative with h = 1e-6.
+TEST(KnitSolver, GradientMatchesFiniteDifferences) {
+  const KnitSetup s = stretched(3, 3, {Deformation::Shear, 25.0});
+  const KnitOptions& o = s.options;
+  for (uint32_t t : {0u, 4u, 8u, 10u}) {
+    const knit64::KnitProblem& p = s.problems[t];
+    const glm::dvec4 theta = p.theta0 + glm::dvec4(0.05, -0.03, 0.01, 0.004);
+    const auto ne = knit64::knitNormalEquations(p, theta, o.wAngle, o.wLength);
+    for (int k = 0; k < 4; ++k) {
+      const double h = 1e-6;
+      glm::dvec4 a = theta, b = theta;
+      a[k] += h;
+      b[k] -= h;
+      const double fd = (knit64::knitEnergy(p, a, o.wAngle, o.wLength) - knit64::knitEnergy(p, b, o.wAngle, o.wLength)) /
+                        (2 * h);
+      EXPECT_NEAR(2 * ne.g[k], fd, 1e-6 * std::max(1.0, std::abs(fd))) << "tile " << t << " parameter " << k;
+    }
+  }
+}
+
+TEST(KnitSolver, RestTemplateHasZeroEnergyAndStays) {
+  const StitchMesh rest = makeStockinette(4, 5);
+  const KnitSetup s = buildKnitSetup(rest, rest, {});
+  EXPECT_LT(totalEnergy(s, true), 1e-20);
+  const KnitSolution sol = solveKnitCpu(s);
+  const std::vector<glm::dvec3> init = liftKnitPoints(s, initialKnitPoints(s));
+  for (size_t i = 0; i < init.size(); ++i) ASSERT_LT(glm::length(sol.worldPoints[i] - init[i]), 1e-12) << i;
+}
+
+TEST(KnitSolver, EnergyDecreasesEveryIteration) {
+  for (Deformation d : {Deformation{Deformation::StretchCourse, 1.4}, Deformation{Deformation::StretchWale, 1.6},
+                        Deformation{Deformation::Shear, 30.0}}) {
+    const KnitSetup s = stretched(6, 6, d);
+    const KnitSolution sol = solveKnitCpu(s);
+    double before = 0, after = 0;
+    for (uint32_t t = 0; t < s.tileCount(); ++t) {
+      for (int k = 0; k < 3; ++k) EXPECT_LE(sol.energy[t][k + 1], sol.energy[t][k] * (1 + 1e-12)) << t << " " << k;
+      before += sol.energy[t][0];
+      after += sol.energy[t][3];
+    }
+    EXPECT_LT(after, 0.9 * before) << deformationKindName(d.kind);
+  }
+}
+
+TEST(KnitSolver, ConstraintsHoldByConstruction) {
+  const KnitSetup s = stretched(4, 4, {Deformation::Shear, 30.0});
+  const KnitSolution sol = solveKnitCpu(s);
+  for (uint32_t t = 0; t < s.tileCount(); ++t) {
+    const auto c = knitConstraintResiduals(s, t, &sol.worldPoints[size_t(t) * FT_KNIT_TILE_POINTS]);
+    EXPECT_LT(c.midpointContact, 1e-12);
+    EXPECT_LT(c.midpointControl, 1e-12);
+    EXPECT_LT(c.controlDistance, 1e-12);
+    EXPECT_LT(c.perpendicularity, 1e-12);
+  }
+}
+
+// Under a course stretch the tile is mirror-symmetric about its centre line,
+// so the solved tilts mirror each other: θ_R = π − θ_L, l_R = l_L.
+TEST(KnitSolver, CourseStretchKeepsTheTileSymmetric) {
+  const KnitSetup s = stretched(3, 3, {Deformation::StretchCourse, 1.4});
+  const KnitSolution sol = solveKnitCpu(s);
+  const glm::dvec4 t = sol.theta[4];  // the middle stitch
+  EXPECT_NEAR(t.x + t.y, M_PI, 1e-9);
+  EXPECT_NEAR(t.z, t.w, 1e-9);
+}
+
+TEST(KnitSolver, FloatInstanceTracksDouble) {
+  const KnitSetup s = stretched(5, 5, {Deformation::Shear, 20.0});
+  const KnitSolution d = solveKnitCpu(s), f = solveKnitCpuFloat(s);
+  double worst = 0;
+  for (size_t i = 0; i < d.worldPoints.size(); ++i)
+    worst = std::max(worst, glm::length(d.worldPoints[i] - f.worldPoints[i]));
+  // A thousandth of the yarn radius (0.05): see the knit cases in validation/.
+  EXPECT_LT(worst, 5e-5);
+}
+
+TEST(KnitYarns, RowsAreContinuousAndCoverEveryTilePointOnce) {
+  const int rows = 4, cols = 5;
+  const KnitSetup s = stretched(rows, cols, {Deformation::StretchCourse, 1.2});
+  ASSERT_EQ(s.stitchCount, uint32_t(rows * cols));
+  ASSERT_EQ(s.tileCount(), uint32_t(rows * cols + cols));  // one ghost above each top stitch
+  // rows yarns of 14 points per stitch, plus one cast-on yarn of 7 per stitch.
+  ASSERT_EQ(s.yarns.size(), size_t(rows + 1));
+  std::vector<int> uses(size_t(s.tileCount()) * FT_KNIT_TILE_POINTS, 0);
+  for (int r = 0; r < rows; ++r) EXPECT_EQ(s.yarns[r].points.size(), size_t(14 * cols));
+  EXPECT_EQ(s.yarns[rows].points.size(), size_t(7 * cols));
+  for (const KnitYarn& y : s.yarns)
+    for (uint32_t p : y.points) ++uses[p];
+  for (uint32_t t = 0; t < s.stitchCount; ++t)
+    for (int i = 0; i < 14; ++i) EXPECT_EQ(uses[t * 14 + i], 1) << "tile " << t << " point " << i;
+  // Consecutive yarn points are never far apart: no jumps between stitches.
+  const KnitSolution sol = solveKnitCpu(s);
+  for (const KnitYarn& y : s.yarns)
+    for (size_t i = 0; i + 1 < y.points.size(); ++i)
+      EXPECT_LT(glm::length(sol.worldPoints[y.points[i + 1]] - sol.worldPoints[y.points[i]]), 0.4) << i;
+  const YarnModel m = knitYarnModel(s, sol.worldPoints, true);
+  EXPECT_EQ(m.curves[0].points.size(), size_t(14 * cols - 1) * FT_KNIT_UPSAMPLE + 1);
+}
+
+TEST(KnitSetupErrors, RejectsUnsupportedTypesAndBadOptions) {
+  StitchMesh m = makeStockinette(2, 2);
+  m.faces[3].type = StitchType::YarnOver;
+  try {
+    buildKnitSetup(m, m, {});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("face 3"), std::string::npos) << e.what();
+  }
+  KnitOptions o;
+  o.beta = 1.5;
+  const StitchMesh rest = makeStockinette(2, 2);
+  EXPECT_THROW(buildKnitSetup(rest, rest, o), InputError);
+  o = {};
+  o.yarnRadius = std::nan("");
+  EXPECT_THROW(buildKnitSetup(rest, rest, o), InputError);
+}
+
+TEST(KnitSetupErrors, DegenerateAndFlippedFacesAreErrors) {
+  const StitchMesh rest = makeStockinette(3, 3);
+  StitchMesh collapsed = rest;
+  for (uint32_t v : {5u, 6u}) collapsed.vertices[v] = collapsed.vertices[1];  // face 1 to zero area
+  EXPECT_THROW(buildKnitSetup(rest, collapsed, {}), InputError);
+  StitchMesh flipped = rest;
+  std::swap(flipped.vertices[5].x, flipped.vertices[6].x);
+  flipped.vertices[5].x += 0.0;
+  EXPECT_THROW(buildKnitSetup(rest, flipped, {}), InputError);
+  StitchMesh nan = rest;
+  nan.vertices[4].y = std::nan("");
+  EXPECT_THROW(buildKnitSetup(rest, nan, {}), InputError);
+}
+
+}  // namespace
+}  // namespace ft
