@@ -23,7 +23,7 @@ ValidationContext::ValidationContext(HarnessOptions options) : options_(std::mov
   buffers_ = buildYarnBuffers(model_);
   // Bad names and options fail here, before any GL work.
   for (const YarnPreset* preset : presets()) checkFiberOptions(*preset, options_.fiber);
-  std::vector<std::string> defines;
+  std::vector<std::string>& defines = defines_;
   if (!options_.inject.empty()) {
     const Fault* f = findFault(options_.inject);
     if (!f) {
@@ -37,6 +37,11 @@ ValidationContext::ValidationContext(HarnessOptions options) : options_(std::mov
   const GlInfo& gi = context_->info();
   fiberGpu_ = std::make_unique<FiberGpu>(gi, defines);
   std::filesystem::create_directories(options_.reportDir / "images");
+}
+
+KnitGpu& ValidationContext::knitGpu() {
+  if (!knitGpu_) knitGpu_ = std::make_unique<KnitGpu>(context_->info(), defines_);
+  return *knitGpu_;
 }
 
 std::string ValidationContext::modelLabel() const {
@@ -66,6 +71,7 @@ RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
   ValidationContext ctx(options);
   std::vector<ValidationCase> cases;
   addFiberCases(ctx, cases);  // one line per algorithm
+  addKnitCases(ctx, cases);
 
   const std::regex filter(options.filter.empty() ? std::string(".*") : options.filter);
   RunSummary summary;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gpu/fiber_gpu.h"
+#include "gpu/knit_gpu.h"
 #include "gpu/gl_context.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"
@@ -51,6 +52,8 @@ class ValidationContext {
   const HarnessOptions& options() const { return options_; }
   const GlInfo& gl() const { return context_->info(); }
   FiberGpu& fiberGpu() { return *fiberGpu_; }
+  // Built on first use, with the same injected fault.
+  KnitGpu& knitGpu();
   const YarnModel& model() const { return model_; }
   const YarnBuffers& buffers() const { return buffers_; }
   std::string modelLabel() const;
@@ -63,7 +66,9 @@ class ValidationContext {
  private:
   HarnessOptions options_;
   std::unique_ptr<GlContext> context_;
+  std::vector<std::string> defines_;
   std::unique_ptr<FiberGpu> fiberGpu_;
+  std::unique_ptr<KnitGpu> knitGpu_;
   YarnModel model_;
   YarnBuffers buffers_;
   std::map<std::string, std::shared_ptr<void>> cache_;
@@ -71,6 +76,7 @@ class ValidationContext {
 
 // Case factories, one per algorithm.
 void addFiberCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+void addKnitCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 
 struct RunSummary {
   std::vector<CaseResult> results;

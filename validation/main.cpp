@@ -1,6 +1,7 @@
 // fibertwin — command-line program: cross-check the GPU paths against the CPU
-// reference (`validate`), render a yarn model (`render`), describe the GL
-// renderer (`info`) and list injectable faults (`faults`).
+// reference (`validate`), render a yarn model (`render`), optimize a deformed
+// stitch mesh into yarn curves (`knit`), describe the GL renderer (`info`) and
+// list injectable faults (`faults`).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -16,6 +17,7 @@
 #include "scene/yarn_fibers.h"
 #include "validation/faults.h"
 #include "validation/harness.h"
+#include "validation/knit_command.h"
 #include "validation/report.h"
 
 namespace {
@@ -84,6 +86,42 @@ int main(int argc, char** argv) {
   render->add_option("--backend", backend, "GL backend");
   addFiberOptions(render, ro);
 
+  ft::KnitCommandOptions ko;
+  std::vector<std::string> knitMeshes;
+  std::string knitBcc = ko.bcc.string(), knitImage = ko.image.string();
+  bool knitNoImage = false;
+  auto* knit = app.add_subcommand(
+      "knit", "optimize the yarn curves of a deformed stitch mesh (knot-based Gauss-Newton); write BCC and PNG");
+  knit->add_option("--mesh", knitMeshes,
+                   "stitch mesh OBJ (docs/stitch-meshes.md); give several for animation frames, the first being the "
+                   "rest state (default: a built-in patch)");
+  knit->add_option("--pattern", ko.pattern, "built-in patch: stockinette or ribbing")->capture_default_str();
+  knit->add_option("--rows", ko.rows, "built-in patch rows")->capture_default_str();
+  knit->add_option("--cols", ko.cols, "built-in patch columns")->capture_default_str();
+  knit->add_option("--deform", ko.deformation,
+                   "none, stretch-course=F or stretch-wale=F (F in 1-1.6), shear=DEGREES (0-30)")
+      ->capture_default_str();
+  knit->add_option("--frames", ko.frames, "animate the deformation from rest over N frames (writes _000, _001, ...)")
+      ->capture_default_str();
+  knit->add_option("--solver", ko.solver, "gpu (compute shader) or cpu (the double-precision reference)")
+      ->capture_default_str();
+  knit->add_option("--yarn-radius", ko.knit.yarnRadius, "knot yarn radius r of eq. 1-2, mesh units")
+      ->capture_default_str();
+  knit->add_option("--beta", ko.knit.beta, "knot spacing blend of section 6.1 (0: rest spacing, 1: the mesh's)")
+      ->capture_default_str();
+  knit->add_option("--iterations", ko.knit.iterations, "Gauss-Newton iterations (0: plain interpolation)")
+      ->capture_default_str();
+  knit->add_option("--w-angle", ko.knit.wAngle, "eq. 3 weight of the angle energy")->capture_default_str();
+  knit->add_option("--w-length", ko.knit.wLength, "eq. 3 weight of the length energy")->capture_default_str();
+  knit->add_option("--out", knitBcc, "output BCC yarn curves")->capture_default_str();
+  knit->add_option("--image", knitImage, "output PNG")->capture_default_str();
+  knit->add_flag("--no-image", knitNoImage, "write the BCC only");
+  knit->add_option("--width", ko.width)->capture_default_str()->check(CLI::Range(16, 8192));
+  knit->add_option("--height", ko.height)->capture_default_str()->check(CLI::Range(16, 8192));
+  knit->add_option("--yarn", ko.yarn, "yarn preset for the fibers")->capture_default_str();
+  knit->add_option("--backend", backend, "GL backend");
+  addFiberOptions(knit, ko.fiber);
+
   auto* info = app.add_subcommand("info", "print the GL renderer and its limits");
   info->add_option("--backend", backend, "GL backend");
   app.add_subcommand("faults", "list the faults --inject can plant");
@@ -94,6 +132,13 @@ int main(int argc, char** argv) {
       if (!modelPath.empty()) vo.model = modelPath;
       vo.backend = parseBackend(backend);
       return ft::runValidation(vo, std::cout).allPassed ? 0 : 1;
+    }
+    if (knit->parsed()) {
+      for (const std::string& m : knitMeshes) ko.meshes.emplace_back(m);
+      ko.bcc = knitBcc;
+      ko.image = knitNoImage ? std::filesystem::path() : std::filesystem::path(knitImage);
+      ko.backend = parseBackend(backend);
+      return ft::runKnitCommand(ko, std::cout);
     }
     if (info->parsed()) {
       auto ctx = ft::GlContext::create(parseBackend(backend));

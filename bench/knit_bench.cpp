@@ -1,0 +1,223 @@
+// knit_bench.cpp — ft_knit_bench: time of the knit-deformation optimization
+// (001_dce8d4d1f783b802.txt §3.2, §5.2: knot-based Gauss–Newton, one problem
+// per stitch, 3 iterations, w_angle 1, w_length 100) on a stockinette patch
+// stretched 1.4× along the course, at three sizes (Args = rows, cols):
+// 60×60 (3,600 stitches), 75×76 (5,700) and 250×200 (50,000):
+//   BM_KnitCpu/R/C          solveKnitCpu: the CPU reference (double, TBB over stitches,
+//                           including the lift to world space), wall clock;
+//   BM_KnitGpuOptimize/R/C  KnitGpu::optimize(): knit_optimize.comp.glsl, one invocation
+//                           per stitch (float);
+//   BM_KnitGpuFull/R/C      optimize() + upsample() (Catmull–Rom rendering vertices).
+// Not timed, on every path: the problem setup (buildKnitSetup: mesh → per-stitch
+// problems), the GPU records and uploads (setStitches, setYarnList) and the
+// read-backs. Each size is set up once per process, on first use.
+// GPU benchmarks use manual time from ft::GpuTimer (glFinish+steady_clock on
+// software renderers, GL_TIME_ELAPSED on real GPUs; the JSON context says which).
+// Counters and the paper's figures: docs/benchmarks.md.
+//
+// Own flags (parsed and removed before benchmark::Initialize):
+//   --large_iterations=N  iterations per repetition of the 50K-stitch benchmarks
+//                         (default 5: on llvmpipe one GPU run takes ~0.1-0.2 s;
+//                         0 = as many as --benchmark_min_time needs)
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gpu/gl_context.h"
+#include "gpu/gpu_timer.h"
+#include "gpu/knit_gpu.h"
+#include "knit/knit_problem.h"
+#include "knit/stitch_mesh.h"
+#include "reference/knit_reference.h"
+#include "scene/input_error.h"
+
+namespace {
+
+// The benchmarked sizes (rows, cols): ~3.6K, ~5.7K and 50K stitches.
+constexpr std::pair<int, int> kSizes[] = {{60, 60}, {75, 76}, {250, 200}};
+constexpr int kLargeStitches = 20000;  // sizes above this use --large_iterations
+
+// One size, built on first use and kept for every repetition.
+struct Problem {
+  ft::KnitSetup setup;
+  std::unique_ptr<ft::KnitGpu> gpu;  // stitches and yarn list uploaded
+};
+
+struct Setup {
+  int largeIterations = 5;  // 0: let --benchmark_min_time decide
+  std::unique_ptr<ft::GlContext> gl;
+  std::unique_ptr<ft::GpuTimer> timer;
+  std::map<std::pair<int, int>, Problem> problems;
+};
+
+Setup* g = nullptr;
+
+// Untimed: mesh, deformation, per-stitch problems (and for the GPU the records
+// and uploads, plus one warm-up run: llvmpipe compiles the kernels on first use).
+Problem& problem(int rows, int cols, bool withGpu) {
+  Problem& p = g->problems[{rows, cols}];
+  if (p.setup.tileCount() == 0) {
+    const ft::StitchMesh rest = ft::makeStockinette(rows, cols);
+    const ft::StitchMesh deformed = ft::deform(rest, ft::Deformation{ft::Deformation::StretchCourse, 1.4});
+    p.setup = ft::buildKnitSetup(rest, deformed, ft::KnitOptions{});
+  }
+  if (withGpu && !p.gpu) {
+    p.gpu = std::make_unique<ft::KnitGpu>(g->gl->info());
+    const std::vector<ft::KnitStitchGpu> records = ft::knitGpuRecords(p.setup);
+    const std::vector<glm::uvec4> list = ft::knitYarnList(p.setup);
+    p.gpu->setStitches(records, ft::knitSolveParams(p.setup));
+    p.gpu->setYarnList(list);
+    p.gpu->run();
+    glFinish();
+  }
+  return p;
+}
+
+// stitches: the mesh's faces; tiles: faces + ghost stitches above the top row
+// (what is solved: one problem each); control points: 14 per tile.
+void setCounters(benchmark::State& state, const ft::KnitSetup& s) {
+  const double stitches = s.stitchCount;
+  state.counters["stitches"] = stitches;
+  state.counters["tiles"] = s.tileCount();
+  state.counters["control_points"] = double(s.tileCount()) * FT_KNIT_TILE_POINTS;
+  state.counters["stitches_per_second"] =
+      benchmark::Counter(stitches * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_KnitCpu(benchmark::State& state) {
+  const Problem& p = problem(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), false);
+  for (auto _ : state) {
+    ft::KnitSolution sol = ft::solveKnitCpu(p.setup);
+    benchmark::DoNotOptimize(sol.worldPoints.data());
+    state.PauseTiming();  // freeing the result is not solving
+    sol = {};
+    state.ResumeTiming();
+  }
+  setCounters(state, p.setup);
+}
+
+// Both GPU benchmarks check the read-back once after timing: every point finite.
+bool pointsFinite(benchmark::State& state, const ft::KnitGpu& gpu, const ft::KnitSetup& s) {
+  const std::vector<glm::vec4> pts = gpu.readPoints();
+  if (pts.size() != size_t(s.tileCount()) * FT_KNIT_TILE_POINTS) {
+    state.SkipWithError(fmt::format("read {} points, expected {}", pts.size(),
+                                    size_t(s.tileCount()) * FT_KNIT_TILE_POINTS)
+                            .c_str());
+    return false;
+  }
+  for (const glm::vec4& q : pts)
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
+      state.SkipWithError("non-finite optimized point");
+      return false;
+    }
+  return true;
+}
+
+void BM_KnitGpuOptimize(benchmark::State& state) {
+  Problem& p = problem(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), true);
+  for (auto _ : state) {
+    g->timer->begin();
+    p.gpu->optimize();  // dispatch only; endMs() waits (glFinish on llvmpipe)
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  if (pointsFinite(state, *p.gpu, p.setup)) setCounters(state, p.setup);
+}
+
+void BM_KnitGpuFull(benchmark::State& state) {
+  Problem& p = problem(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), true);
+  for (auto _ : state) {
+    g->timer->begin();
+    p.gpu->optimize();
+    p.gpu->upsample();
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  if (pointsFinite(state, *p.gpu, p.setup)) setCounters(state, p.setup);
+}
+
+// Takes `--name=value` out of argv (benchmark::Initialize rejects unknown flags).
+bool takeFlag(int& argc, char** argv, const char* name, std::string& value) {
+  const std::string prefix = std::string("--") + name + "=";
+  for (int i = 1; i < argc; ++i) {
+    if (std::strncmp(argv[i], prefix.c_str(), prefix.size()) == 0) {
+      value = argv[i] + prefix.size();
+      for (int j = i; j < argc - 1; ++j) argv[j] = argv[j + 1];
+      --argc;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Setup setup;
+  g = &setup;
+  try {
+    if (std::string n; takeFlag(argc, argv, "large_iterations", n))
+      setup.largeIterations = std::max(0, std::atoi(n.c_str()));
+
+    setup.gl = ft::GlContext::create(ft::glBackendFromEnv());
+    const ft::GlInfo& gi = setup.gl->info();
+    setup.timer = std::make_unique<ft::GpuTimer>(gi);
+
+    benchmark::AddCustomContext("gl_vendor", gi.vendor);
+    benchmark::AddCustomContext("gl_renderer", gi.renderer);
+    benchmark::AddCustomContext("gl_version", gi.version);
+    benchmark::AddCustomContext("gl_backend", gi.backend);
+    benchmark::AddCustomContext("gpu_timing_method", setup.timer->method());
+    benchmark::AddCustomContext("cpu_threads", std::to_string(tbb::info::default_concurrency()));
+    benchmark::AddCustomContext("pattern", "stockinette");
+    benchmark::AddCustomContext("deformation", "stretch-course 1.4");
+    const ft::KnitOptions o;
+    benchmark::AddCustomContext("knit_options", fmt::format("w_angle {}, w_length {}, iterations {}, yarn radius {}",
+                                                            o.wAngle, o.wLength, o.iterations, o.yarnRadius));
+    benchmark::AddCustomContext("large_iterations", std::to_string(setup.largeIterations));
+    // 001_dce8d4d1f783b802.txt Table 1 (simulation time, CUDA on an RTX 3090).
+    benchmark::AddCustomContext("paper_sim_ms_38k_200k_control_points",
+                                "1.05 (Table 1: Ribbing 38K CPs 1.02 ms ... Flame 200K CPs 1.05 ms; RTX 3090)");
+    benchmark::AddCustomContext("paper_sim_ms_319k_control_points", "2.5 (Table 1: Relaxation, Fig. 17; RTX 3090)");
+    benchmark::AddCustomContext("paper_source", "001_dce8d4d1f783b802.txt");
+
+    struct Kind {
+      const char* name;
+      void (*fn)(benchmark::State&);
+      bool manualTime;
+    };
+    for (const Kind& k : {Kind{"BM_KnitCpu", BM_KnitCpu, false}, Kind{"BM_KnitGpuOptimize", BM_KnitGpuOptimize, true},
+                          Kind{"BM_KnitGpuFull", BM_KnitGpuFull, true}}) {
+      for (const auto& [rows, cols] : kSizes) {
+        auto* b = benchmark::RegisterBenchmark(k.name, k.fn)->Args({rows, cols})->Unit(benchmark::kMillisecond);
+        if (k.manualTime)
+          b->UseManualTime();
+        else
+          b->UseRealTime();
+        if (rows * cols > kLargeStitches && setup.largeIterations > 0) b->Iterations(setup.largeIterations);
+      }
+    }
+
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+  } catch (const ft::InputError& e) {
+    std::cerr << "ft_knit_bench: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ft_knit_bench: error: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}

@@ -1,0 +1,154 @@
+#include "validation/knit_command.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <memory>
+#include <ostream>
+
+#include "gpu/fiber_gpu.h"
+#include "gpu/knit_gpu.h"
+#include "reference/knit_reference.h"
+#include "scene/bcc_reader.h"
+#include "scene/camera.h"
+#include "scene/input_error.h"
+#include "scene/yarn_preset.h"
+#include "validation/report.h"
+
+namespace ft {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct Frame {
+  StitchMesh mesh;
+  std::string label;
+};
+
+std::pair<StitchMesh, std::vector<Frame>> loadFrames(const KnitCommandOptions& o) {
+  if (o.meshes.size() >= 2) {
+    if (o.frames != 1) throw InputError("--frames: not used with an OBJ frame sequence (--mesh given more than once)");
+    std::vector<StitchMesh> seq = readStitchObjSequence(o.meshes);
+    std::vector<Frame> frames;
+    for (size_t i = 1; i < seq.size(); ++i) frames.push_back({seq[i], seq[i].name});
+    return {seq.front(), frames};
+  }
+  StitchMesh rest;
+  if (o.meshes.size() == 1) {
+    rest = readStitchObj(o.meshes.front());
+  } else {
+    if (o.rows < 1 || o.rows > 1000 || o.cols < 1 || o.cols > 1000)
+      throw InputError(fmt::format("--rows/--cols: {} x {} is out of range (1 to 1000)", o.rows, o.cols));
+    if (o.pattern == "stockinette") rest = makeStockinette(o.rows, o.cols);
+    else if (o.pattern == "ribbing") rest = makeRibbing1x1(o.rows, o.cols);
+    else throw InputError(fmt::format("--pattern: '{}' is neither stockinette nor ribbing", o.pattern));
+  }
+  const Deformation d = parseDeformation(o.deformation);
+  if (o.frames < 1 || o.frames > 1000) throw InputError(fmt::format("--frames: {} is out of range (1 to 1000)", o.frames));
+  std::vector<Frame> frames;
+  if (o.frames == 1) {
+    frames.push_back({deform(rest, d), o.deformation});
+  } else {
+    const std::vector<StitchMesh> seq = animate(rest, d, o.frames);
+    for (int i = 0; i < o.frames; ++i) frames.push_back({seq[i], fmt::format("{} frame {}", o.deformation, i)});
+  }
+  return {rest, frames};
+}
+
+}  // namespace
+
+std::filesystem::path frameFileName(const std::filesystem::path& path, int index) {
+  std::filesystem::path out = path;
+  out.replace_filename(fmt::format("{}_{:03d}{}", path.stem().string(), index, path.extension().string()));
+  return out;
+}
+
+int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
+  if (o.solver != "gpu" && o.solver != "cpu")
+    throw InputError(fmt::format("--solver: '{}' is neither gpu nor cpu", o.solver));
+  validateKnitOptions(o.knit);
+  const YarnPreset& preset = findYarnPreset(o.yarn);
+  checkFiberOptions(preset, o.fiber);
+  auto [rest, frames] = loadFrames(o);
+
+  std::unique_ptr<GlContext> context;
+  std::unique_ptr<KnitGpu> knitGpu;
+  std::unique_ptr<FiberGpu> fiberGpu;
+  const bool needGl = o.solver == "gpu" || !o.image.empty();
+  if (needGl) context = GlContext::create(o.backend);
+  if (o.solver == "gpu") knitGpu = std::make_unique<KnitGpu>(context->info());
+
+  std::vector<FiberCoord> table;
+  YarnParams params{};
+  if (!o.image.empty()) {
+    table = makeFiberTable(preset, o.fiber.seed);
+    params = makeYarnParams(preset, table, o.fiber);
+    fiberGpu = std::make_unique<FiberGpu>(context->info());
+  }
+  Camera camera;
+  const bool sequence = frames.size() > 1;
+  for (size_t fi = 0; fi < frames.size(); ++fi) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const KnitSetup setup = buildKnitSetup(rest, frames[fi].mesh, o.knit);
+    const double setupMs = msSince(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+    YarnModel model;
+    double before = 0, after = 0;
+    if (knitGpu) {
+      knitGpu->setStitches(knitGpuRecords(setup), knitSolveParams(setup));
+      knitGpu->setYarnList(knitYarnList(setup));
+      knitGpu->run();
+      model = knitYarnModelFromVertices(setup, knitGpu->readVertices());
+      const auto e = knitGpu->readEnergies();
+      for (uint32_t t = 0; t < setup.tileCount(); ++t) {
+        before += e[t * 3].x;
+        const int k = o.knit.iterations;
+        after += e[t * 3 + k / 4][k % 4];
+      }
+    } else {
+      const KnitSolution sol = solveKnitCpu(setup);
+      model = knitYarnModel(setup, sol.worldPoints, true);
+      for (const auto& e : sol.energy) {
+        before += e[0];
+        after += e[o.knit.iterations];
+      }
+    }
+    const double solveMs = msSince(t1);
+    model.name = fmt::format("knit ({})", frames[fi].label);
+    const std::filesystem::path bccPath = sequence ? frameFileName(o.bcc, int(fi)) : o.bcc;
+    writeBcc(model, bccPath);
+    size_t vertices = 0;
+    for (const YarnCurve& c : model.curves) vertices += c.points.size();
+    log << fmt::format(
+        "{}: {} stitches ({} tiles with the bind-off), {} yarns, {} vertices; eq. 3 energy {:.4g} -> {:.4g} "
+        "after {} Gauss-Newton iterations; setup {:.1f} ms, {} solve + read-back {:.1f} ms\n",
+        bccPath.string(), setup.stitchCount, setup.tileCount(), model.curves.size(), vertices, before, after,
+        o.knit.iterations, setupMs, o.solver, solveMs);
+    if (!o.image.empty()) {
+      // One camera for a whole sequence, framing the last (most deformed) frame.
+      if (fi == 0) {
+        YarnModel framing = model;
+        if (sequence) {
+          const KnitSetup last = buildKnitSetup(rest, frames.back().mesh, o.knit);
+          framing = knitYarnModel(last, liftKnitPoints(last, initialKnitPoints(last)), false);
+        }
+        camera = frameModel(framing, glm::vec3(0.15f, -0.35f, 1.0f), o.width, o.height);
+      }
+      fiberGpu->setModel(buildYarnBuffers(model), table);
+      fiberGpu->setParams(params, makeViewParams(camera, 1.0f, true, true));
+      RenderStyle style;
+      style.lightDir = glm::normalize(glm::vec3(0.3f, 0.6f, 0.8f));
+      const auto t2 = std::chrono::steady_clock::now();
+      const RgbaImage image = fiberGpu->renderCompute(o.width, o.height, style);
+      const std::filesystem::path imagePath = sequence ? frameFileName(o.image, int(fi)) : o.image;
+      writePng(imagePath, image);
+      log << fmt::format("{}: {}x{}, yarn {}, fiber compute path, {:.0f} ms on {}\n", imagePath.string(), o.width,
+                         o.height, preset.name, msSince(t2), context->info().renderer);
+    }
+  }
+  return 0;
+}
+
+}  // namespace ft
