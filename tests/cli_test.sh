@@ -200,6 +200,34 @@ rm -rf "$TMP/report"
 run_case "render --light nan,1,1" 2 "--light" -- render --light nan,1,1 --out "$TMP/x.png"
 rm -f "$TMP/x.png"
 
+# fibertwin knit: bad meshes and options (the built-in patch is 2x2 to stay fast).
+KC="$(dirname "$0")/knit_corpus"
+run_case "knit --deform stretch-course=2" 2 "stretch-course" -- knit --rows 2 --cols 2 --deform stretch-course=2 --no-image --out "$TMP/k.bcc"
+run_case "knit --deform shear=45" 2 "shear" -- knit --rows 2 --cols 2 --deform shear=45 --no-image --out "$TMP/k.bcc"
+run_case "knit --deform nosuch" 2 "nosuch" -- knit --rows 2 --cols 2 --deform nosuch --no-image --out "$TMP/k.bcc"
+run_case "knit --beta 2" 2 "--beta" -- knit --rows 2 --cols 2 --beta 2 --no-image --out "$TMP/k.bcc"
+run_case "knit --yarn-radius -1" 2 "--yarn-radius" -- knit --rows 2 --cols 2 --yarn-radius -1 --no-image --out "$TMP/k.bcc"
+run_case "knit --iterations 99" 2 "--iterations" -- knit --rows 2 --cols 2 --iterations 99 --no-image --out "$TMP/k.bcc"
+run_case "knit --pattern nosuch" 2 "--pattern" "nosuch" -- knit --pattern nosuch --no-image --out "$TMP/k.bcc"
+run_case "knit --solver nosuch" 2 "--solver" "nosuch" -- knit --rows 2 --cols 2 --solver nosuch --no-image --out "$TMP/k.bcc"
+run_case "knit --frames 0" 2 "--frames" -- knit --rows 2 --cols 2 --frames 0 --no-image --out "$TMP/k.bcc"
+run_case "knit --rows 0" 2 "--rows" -- knit --rows 0 --no-image --out "$TMP/k.bcc"
+run_case "knit --mesh <missing>" 2 "$missing" -- knit --mesh "$missing" --no-image --out "$TMP/k.bcc"
+run_case "knit --mesh nonmanifold" 2 "nonmanifold_edge.obj" -- knit --mesh "$KC/nonmanifold_edge.obj" --no-image --out "$TMP/k.bcc"
+for f in "$KC"/*.obj; do
+  case "$(basename "$f")" in bad_*)
+    run_case "knit --mesh $(basename "$f")" 2 "$(basename "$f")" -- knit --mesh "$f" --no-image --out "$TMP/k.bcc" ;;
+  esac
+done
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n' > "$TMP/rest.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 nan 0\nf 1 2 3 4\n' > "$TMP/frame_nan.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$TMP/frame_topology.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 1 0\nf 1 2 3 4\n' > "$TMP/frame_flipped.obj"
+run_case "knit frames: NaN vertex" 2 "frame_nan.obj" -- knit --mesh "$TMP/rest.obj" --mesh "$TMP/frame_nan.obj" --no-image --out "$TMP/k.bcc"
+run_case "knit frames: topology differs" 2 "frame_topology.obj" -- knit --mesh "$TMP/rest.obj" --mesh "$TMP/frame_topology.obj" --no-image --out "$TMP/k.bcc"
+run_case "knit frames: flipped face" 2 "frame_flipped.obj" "face 0" -- knit --mesh "$TMP/rest.obj" --mesh "$TMP/frame_flipped.obj" --no-image --out "$TMP/k.bcc"
+rm -f "$TMP/k.bcc"
+
 echo "$passed passed, $failed failed ($xfailed known gaps)"
 if [ "$failed" -ne 0 ]; then
   printf "failed:\n%b" "$failures"

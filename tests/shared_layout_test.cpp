@@ -13,6 +13,7 @@
 
 #include "common/constants.h"
 #include "common/fiber_vertex.h"
+#include "common/knit_stitch.h"
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
@@ -49,6 +50,9 @@ namespace {
   X(count) X(instanceCount) X(firstIndex) X(baseVertex) X(baseInstance) X(vertexTotal) X(stripTotal) \
   X(sampleTotal)
 #define FT_YARN_SAMPLE_MEMBERS(X) X(centerLength) X(tangent) X(normal) X(binormal)
+#define FT_KNIT_STITCH_GPU_MEMBERS(X) \
+  X(origin) X(e1) X(e2) X(normal) X(knots) X(theta0) X(fixedXY) X(fixedH) X(restLength) X(restCosine) X(misc)
+#define FT_KNIT_SOLVE_PARAMS_MEMBERS(X) X(wAngle) X(wLength) X(iterations) X(stitchCount)
 // clang-format on
 
 struct Member {
@@ -96,6 +100,8 @@ std::vector<StructCase> structCases() {
       FT_STORAGE_CASE(SegmentDecision, FT_SEGMENT_DECISION_MEMBERS, FT_SSBO_DECISIONS),
       FT_STORAGE_CASE(DrawElementsCommand, FT_DRAW_ELEMENTS_COMMAND_MEMBERS, FT_SSBO_DRAW_COMMAND),
       FT_STORAGE_CASE(YarnSample, FT_YARN_SAMPLE_MEMBERS, FT_SSBO_SAMPLES),
+      FT_UNIFORM_CASE(KnitSolveParams, FT_KNIT_SOLVE_PARAMS_MEMBERS, "KnitParamsBlock", "knit", FT_UBO_KNIT_PARAMS),
+      FT_STORAGE_CASE(KnitStitchGpu, FT_KNIT_STITCH_GPU_MEMBERS, FT_SSBO_KNIT_STITCHES),
   };
 }
 
@@ -263,6 +269,12 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   add(pattern<SegmentDecision>(800.0f), FT_SSBO_DECISIONS);
   add(pattern<DrawElementsCommand>(900.0f), FT_SSBO_DRAW_COMMAND);
   add(pattern<YarnSample>(1000.0f), FT_SSBO_SAMPLES);
+  add(pattern<KnitStitchGpu>(1100.0f), FT_SSBO_KNIT_STITCHES);
+  KnitSolveParams knit = pattern<KnitSolveParams>(1200.0f);
+  Buffer knitUbo = Buffer::create(sizeof knit, &knit);
+  knitUbo.bindBase(GL_UNIFORM_BUFFER, FT_UBO_KNIT_PARAMS);
+  Buffer knitCopy = Buffer::create(sizeof knit);
+  knitCopy.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_KNIT_POINTS);
 
   glUseProgram(program_.id());
   glDispatchCompute(1, 1, 1);
@@ -283,6 +295,8 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   check(6, pattern<SegmentDecision>(800.0f), "SegmentDecision");
   check(7, pattern<DrawElementsCommand>(900.0f), "DrawElementsCommand");
   check(8, pattern<YarnSample>(1000.0f), "YarnSample");
+  check(9, pattern<KnitStitchGpu>(1100.0f), "KnitStitchGpu");
+  expectSameBytes(knit, readBuffer<KnitSolveParams>(knitCopy.id(), 1)[0], "KnitSolveParams (uniform block)");
 
   // std140 uniform → std430 storage copy: both layouts equal the C++ one for these structs.
   std::vector<YarnParams> yarnBack = readBuffer<YarnParams>(copy.id(), 1);

@@ -72,6 +72,14 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   const YarnPreset& preset = findYarnPreset(o.yarn);
   checkFiberOptions(preset, o.fiber);
   auto [rest, frames] = loadFrames(o);
+  // Every frame's problems before any GL work: bad meshes are rejected first.
+  std::vector<KnitSetup> setups;
+  std::vector<double> setupMs;
+  for (const Frame& f : frames) {
+    const auto t0 = std::chrono::steady_clock::now();
+    setups.push_back(buildKnitSetup(rest, f.mesh, o.knit));
+    setupMs.push_back(msSince(t0));
+  }
 
   std::unique_ptr<GlContext> context;
   std::unique_ptr<KnitGpu> knitGpu;
@@ -90,9 +98,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   Camera camera;
   const bool sequence = frames.size() > 1;
   for (size_t fi = 0; fi < frames.size(); ++fi) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const KnitSetup setup = buildKnitSetup(rest, frames[fi].mesh, o.knit);
-    const double setupMs = msSince(t0);
+    const KnitSetup& setup = setups[fi];
     const auto t1 = std::chrono::steady_clock::now();
     YarnModel model;
     double before = 0, after = 0;
@@ -125,13 +131,13 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
         "{}: {} stitches ({} tiles with the bind-off), {} yarns, {} vertices; eq. 3 energy {:.4g} -> {:.4g} "
         "after {} Gauss-Newton iterations; setup {:.1f} ms, {} solve + read-back {:.1f} ms\n",
         bccPath.string(), setup.stitchCount, setup.tileCount(), model.curves.size(), vertices, before, after,
-        o.knit.iterations, setupMs, o.solver, solveMs);
+        o.knit.iterations, setupMs[fi], o.solver, solveMs);
     if (!o.image.empty()) {
       // One camera for a whole sequence, framing the last (most deformed) frame.
       if (fi == 0) {
         YarnModel framing = model;
         if (sequence) {
-          const KnitSetup last = buildKnitSetup(rest, frames.back().mesh, o.knit);
+          const KnitSetup& last = setups.back();
           framing = knitYarnModel(last, liftKnitPoints(last, initialKnitPoints(last)), false);
         }
         camera = frameModel(framing, glm::vec3(0.15f, -0.35f, 1.0f), o.width, o.height);

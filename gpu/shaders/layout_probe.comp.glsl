@@ -8,6 +8,7 @@
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
 #include "common/fiber_vertex.h"
+#include "common/knit_stitch.h"
 
 layout(local_size_x = 1) in;
 
@@ -27,6 +28,9 @@ layout(std430, binding = FT_SSBO_DRAW_COMMAND) buffer DrawElementsCommandBuf {
   DrawElementsCommand data[];
 } commands;
 layout(std430, binding = FT_SSBO_SAMPLES) buffer YarnSampleBuf { YarnSample data[]; } samples;
+layout(std140, binding = FT_UBO_KNIT_PARAMS) uniform KnitParamsBlock { KnitSolveParams knit; };
+layout(std430, binding = FT_SSBO_KNIT_STITCHES) buffer KnitStitchGpuBuf { KnitStitchGpu data[]; } knitStitches;
+layout(std430, binding = FT_SSBO_KNIT_POINTS) buffer KnitParamsCopyBuf { KnitSolveParams knitCopy; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -44,4 +48,6 @@ void main() {
   samples.data[1] = samples.data[0];
   paramsCopy.yarnCopy = yarn;
   paramsCopy.viewCopy = view;
+  knitStitches.data[1] = knitStitches.data[0];
+  knitCopy = knit;
 }
