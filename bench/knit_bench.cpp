@@ -17,7 +17,8 @@
 //
 // Own flags (parsed and removed before benchmark::Initialize):
 //   --large_iterations=N  iterations per repetition of the 50K-stitch benchmarks
-//                         (default 5: on llvmpipe one GPU run takes ~0.1-0.2 s;
+//                         (default 5: on the 2-core llvmpipe machine one run takes
+//                         0.2-0.5 s on the GPU paths and 0.6-1.2 s on the CPU;
 //                         0 = as many as --benchmark_min_time needs)
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>

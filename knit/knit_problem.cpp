@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "scene/input_error.h"
@@ -17,45 +18,89 @@ using knit64::KnitProblem;
 
 constexpr uint32_t kNone = 0xffffffffu;
 
-// Face neighbours across the four quad edges (kNone at a border): a face above
-// has our top edge v3->v2 as its bottom edge v0->v1, and so on round.
-struct Neighbours {
-  uint32_t down = kNone, right = kNone, up = kNone, left = kNone;
+using Edge = std::pair<uint32_t, uint32_t>;  // directed, counter-clockwise in its face
+
+// A face's edges by role (docs/stitch-meshes.md): bottom edges carry the loops
+// coming in from below, top edges the loops going out above; each list runs
+// counter-clockwise (bottom left to right, top right to left).
+struct FaceEdges {
+  std::vector<Edge> bottom, top;
+  Edge right, left;
 };
 
-std::vector<Neighbours> quadNeighbours(const StitchMesh& m) {
-  std::map<std::pair<uint32_t, uint32_t>, std::pair<uint32_t, uint32_t>> edges;  // (a, b) -> (face, edge)
-  for (uint32_t f = 0; f < m.faces.size(); ++f)
-    for (uint32_t e = 0; e < 4; ++e) edges[{m.faces[f].v[e], m.faces[f].v[(e + 1) % 4]}] = {f, e};
-  auto across = [&](uint32_t f, uint32_t e, uint32_t wantEdge) {
-    const StitchFace& face = m.faces[f];
-    auto it = edges.find({face.v[(e + 1) % 4], face.v[e]});
-    return it != edges.end() && it->second.second == wantEdge ? it->second.first : kNone;
+FaceEdges faceEdges(const StitchFace& f) {
+  const auto& v = f.v;
+  if (f.count == 3) return {{}, {{v[1], v[2]}}, {v[0], v[1]}, {v[2], v[0]}};  // yarn-over triangle
+  if (f.count == 4) return {{{v[0], v[1]}}, {{v[2], v[3]}}, {v[1], v[2]}, {v[3], v[0]}};
+  if (f.type == StitchType::Increase) return {{{v[0], v[1]}}, {{v[2], v[3]}, {v[3], v[4]}}, {v[1], v[2]}, {v[4], v[0]}};
+  return {{{v[0], v[1]}, {v[1], v[2]}}, {{v[3], v[4]}}, {v[2], v[3]}, {v[4], v[0]}};  // decrease
+}
+
+// Stitch tiles: every tile is a quad with one knit tile (knit_stitch.h) on
+// it. Knit, purl and yarn-over quads are one tile; a pentagon is split into
+// a left and a right tile (an increase at the middle of its bottom edge, a
+// decrease at the middle of its top edge: two loops out, or two loops in); a
+// yarn-over triangle gets a quad whose bottom edge is half its top edge,
+// centred on its bottom corner. New vertices are affine in the face's own, so
+// rest and deformed tiles stay consistent.
+struct TileQuad {
+  std::array<glm::dvec3, 4> rest, deformed;
+  uint32_t face;
+};
+
+glm::dvec3 mid(const glm::dvec3& a, const glm::dvec3& b) { return 0.5 * (a + b); }
+
+std::vector<TileQuad> faceTiles(const StitchMesh& rest, const StitchMesh& def, uint32_t f) {
+  const StitchFace& face = rest.faces[f];
+  auto quads = [&](const StitchMesh& m) -> std::vector<std::array<glm::dvec3, 4>> {
+    std::array<glm::dvec3, 5> x;
+    for (uint32_t i = 0; i < face.count; ++i) x[i] = m.vertices[face.v[i]];
+    if (face.count == 3) return {{x[0] + 0.25 * (x[2] - x[1]), x[0] + 0.25 * (x[1] - x[2]), x[1], x[2]}};
+    if (face.count == 4) return {{x[0], x[1], x[2], x[3]}};
+    if (face.type == StitchType::Increase) {
+      const glm::dvec3 m01 = mid(x[0], x[1]);
+      return {{x[0], m01, x[3], x[4]}, {m01, x[1], x[2], x[3]}};
+    }
+    const glm::dvec3 m34 = mid(x[3], x[4]);
+    return {{x[0], x[1], m34, x[4]}, {x[1], x[2], x[3], m34}};
   };
-  std::vector<Neighbours> out(m.faces.size());
-  for (uint32_t f = 0; f < m.faces.size(); ++f) {
-    out[f].down = across(f, 0, 2);
-    out[f].right = across(f, 1, 3);
-    out[f].up = across(f, 2, 0);
-    out[f].left = across(f, 3, 1);
-  }
+  const auto r = quads(rest), d = quads(def);
+  std::vector<TileQuad> out;
+  for (size_t i = 0; i < r.size(); ++i) out.push_back({r[i], d[i], f});
   return out;
 }
 
-// The face below's top edge extruded by the face's own wale edges: a ghost
-// stitch in the same shape, so the top row's heads have a tile to live in.
-StitchFace addGhostAbove(StitchMesh& m, uint32_t f) {
-  const StitchFace& face = m.faces[f];
-  const glm::dvec3 v0 = m.vertices[face.v[0]], v1 = m.vertices[face.v[1]];
-  const glm::dvec3 v2 = m.vertices[face.v[2]], v3 = m.vertices[face.v[3]];
-  StitchFace g = face;
-  g.v[0] = face.v[3];
-  g.v[1] = face.v[2];
-  g.v[2] = static_cast<uint32_t>(m.vertices.size());
-  m.vertices.push_back(v2 + (v2 - v1));
-  g.v[3] = static_cast<uint32_t>(m.vertices.size());
-  m.vertices.push_back(v3 + (v3 - v0));
-  return g;
+// The top edge of a quad extruded by its mean wale edge: a ghost stitch (a
+// parallelogram, never degenerate, even over a slanted pentagon half) so the
+// top row's heads have a tile to live in.
+std::array<glm::dvec3, 4> ghostAbove(const std::array<glm::dvec3, 4>& q) {
+  const glm::dvec3 wale = 0.5 * ((q[3] - q[0]) + (q[2] - q[1]));
+  return {q[3], q[2], q[2] + wale, q[3] + wale};
+}
+
+// Rest and deformed tile meshes with the same vertex indices: corners are
+// shared where their rest positions coincide (the deformed ones may not).
+std::pair<StitchMesh, StitchMesh> quadMeshes(const std::string& restName, const std::string& defName,
+                                             const std::vector<TileQuad>& quads) {
+  std::pair<StitchMesh, StitchMesh> m;
+  m.first.name = restName;
+  m.second.name = defName;
+  std::map<std::tuple<double, double, double>, uint32_t> index;
+  for (const TileQuad& q : quads) {
+    StitchFace f{{kNoVertex, kNoVertex, kNoVertex, kNoVertex, kNoVertex}, 4, StitchType::Knit, 0};
+    for (int i = 0; i < 4; ++i) {
+      auto [it, added] =
+          index.try_emplace({q.rest[i].x, q.rest[i].y, q.rest[i].z}, static_cast<uint32_t>(m.first.vertices.size()));
+      if (added) {
+        m.first.vertices.push_back(q.rest[i]);
+        m.second.vertices.push_back(q.deformed[i]);
+      }
+      f.v[i] = it->second;
+    }
+    m.first.faces.push_back(f);
+    m.second.faces.push_back(f);
+  }
+  return m;
 }
 
 // Bilinear map of normalized stitch coordinates over a quad's 2D corners;
@@ -187,49 +232,122 @@ void validateKnitOptions(const KnitOptions& o) {
 
 KnitSetup buildKnitSetup(const StitchMesh& restIn, const StitchMesh& deformedIn, const KnitOptions& options) {
   validateKnitOptions(options);
-  for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
-    const StitchFace& face = restIn.faces[f];
-    if ((face.type != StitchType::Knit && face.type != StitchType::Purl) || face.count != 4) {
-      fail(fmt::format("{}: face {}{}: {} stitch with {} vertices: the knit optimizer has templates for knit "
-                       "and purl quads only",
-                       restIn.name, f, face.objLine ? fmt::format(" (line {})", face.objLine) : "",
-                       stitchTypeName(face.type), face.count));
-    }
-  }
   // Frames, gradients and every degenerate-face check on the meshes as given.
   (void)faceDeformations(restIn, deformedIn);
+  for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
+    const StitchFace& face = restIn.faces[f];
+    if (!stitchTypeAcceptsCount(face.type, face.count))
+      fail(fmt::format("{}: face {}: a {} stitch cannot have {} vertices", restIn.name, f, stitchTypeName(face.type),
+                       face.count));
+  }
+  const uint32_t faces = static_cast<uint32_t>(restIn.faces.size());
 
-  const std::vector<Neighbours> nb = quadNeighbours(restIn);
-  StitchMesh rest = restIn, deformed = deformedIn;
+  // Edges by role, and who is across each.
+  std::vector<FaceEdges> edges(faces);
+  std::map<Edge, uint32_t> owner;
+  for (uint32_t f = 0; f < faces; ++f) {
+    edges[f] = faceEdges(restIn.faces[f]);
+    for (const Edge& e : edges[f].bottom) owner[e] = f;
+    for (const Edge& e : edges[f].top) owner[e] = f;
+    owner[edges[f].right] = f;
+    owner[edges[f].left] = f;
+  }
+  auto across = [&](const Edge& e) {
+    auto it = owner.find({e.second, e.first});
+    return it == owner.end() ? kNone : it->second;
+  };
+  auto isBottomOf = [&](uint32_t g, const Edge& e) {  // e (reversed) is one of g's bottom edges
+    for (const Edge& b : edges[g].bottom)
+      if (b.first == e.second && b.second == e.first) return true;
+    return false;
+  };
+
+  // Tiles of every face, then the ghosts.
+  std::vector<TileQuad> tiles;
+  std::vector<uint32_t> firstTile(faces), tileCount(faces);
+  for (uint32_t f = 0; f < faces; ++f) {
+    firstTile[f] = static_cast<uint32_t>(tiles.size());
+    for (TileQuad& t : faceTiles(restIn, deformedIn, f)) tiles.push_back(t);
+    tileCount[f] = static_cast<uint32_t>(tiles.size()) - firstTile[f];
+  }
+  // Tiles of face f below its top edge e (left to right), and above a bottom edge.
+  auto tilesBelowTop = [&](uint32_t f, const Edge& e) -> std::vector<uint32_t> {
+    const StitchFace& face = restIn.faces[f];
+    if (face.count == 5 && face.type == StitchType::Increase)
+      return {firstTile[f] + (e.first == face.v[3] ? 0u : 1u)};  // (v3,v4) is the left tile's
+    if (face.count == 5) return {firstTile[f], firstTile[f] + 1};
+    return {firstTile[f]};
+  };
+  // e is the top edge of the face below, so f's bottom edge reversed.
+  auto tilesAboveBottom = [&](uint32_t f, const Edge& e) -> std::vector<uint32_t> {
+    const StitchFace& face = restIn.faces[f];
+    if (face.count == 5 && face.type == StitchType::Decrease) return {firstTile[f] + (e.second == face.v[0] ? 0u : 1u)};
+    if (face.count == 5) return {firstTile[f], firstTile[f] + 1};
+    return {firstTile[f]};
+  };
+
   KnitSetup s;
   s.name = deformedIn.name;
   s.options = options;
-  s.stitchCount = static_cast<uint32_t>(restIn.faces.size());
-  std::vector<uint32_t> ghostOf(restIn.faces.size(), kNone);
-  for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
-    s.tileFace.push_back(f);
+  s.stitchCount = static_cast<uint32_t>(tiles.size());
+  auto range = [](uint32_t tile, uint32_t from, uint32_t to) {
+    std::vector<uint32_t> out;
+    for (uint32_t i = from; i <= to; ++i) out.push_back(tile * FT_KNIT_TILE_POINTS + i);
+    return out;
+  };
+  // The head path of each tile: the green points (4..10) of the tile(s) above
+  // its loop that its head runs through (knit_stitch.h).
+  std::vector<std::vector<uint32_t>> head(s.stitchCount);
+  std::vector<bool> greensUsed(s.stitchCount, false);
+  std::vector<uint32_t> ghostFor;
+  for (uint32_t f = 0; f < faces; ++f) {
+    for (const Edge& e : edges[f].top) {
+      const std::vector<uint32_t> below = tilesBelowTop(f, e);
+      const uint32_t g = across(e);
+      if (g == kNone || !isBottomOf(g, e)) {
+        for (uint32_t t : below) {  // bind-off: a ghost above each tile
+          const uint32_t ghost = static_cast<uint32_t>(tiles.size());
+          tiles.push_back({ghostAbove(tiles[t].rest), ghostAbove(tiles[t].deformed), f});
+          ghostFor.push_back(t);
+          head[t] = range(ghost, 4, 10);
+        }
+        continue;
+      }
+      const std::vector<uint32_t> above = tilesAboveBottom(g, e);
+      for (uint32_t t : above) greensUsed[t] = true;
+      if (below.size() == 1) {
+        for (uint32_t t : above)
+          for (uint32_t p : range(t, 4, 10)) head[below[0]].push_back(p);  // one loop through one or two
+      } else if (above.size() == 1) {
+        head[below[0]] = range(above[0], 4, 7);  // two loops through one: the left head takes the apex
+        head[below[1]] = range(above[0], 8, 10);
+      } else {
+        head[below[0]] = range(above[0], 4, 10);
+        head[below[1]] = range(above[1], 4, 10);
+      }
+    }
   }
-  for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
-    if (nb[f].up != kNone) continue;
-    ghostOf[f] = static_cast<uint32_t>(rest.faces.size());
-    rest.faces.push_back(addGhostAbove(rest, f));
-    deformed.faces.push_back(addGhostAbove(deformed, f));
-    s.tileFace.push_back(f);
-  }
-  const std::vector<FaceDeformation> fd = faceDeformations(rest, deformed);
 
-  const uint32_t tiles = static_cast<uint32_t>(rest.faces.size());
-  s.problems.resize(tiles);
-  s.frames.resize(tiles);
-  for (uint32_t t = 0; t < tiles; ++t) {
-    const uint32_t f = s.tileFace[t];
+  // Problems for every tile (stitch tiles, then ghosts).
+  const auto [restTiles, defTiles] =
+      quadMeshes(restIn.name + " (stitch tiles)", deformedIn.name + " (stitch tiles)", tiles);
+  const std::vector<FaceDeformation> fd = faceDeformations(restTiles, defTiles);
+  s.problems.resize(tiles.size());
+  s.frames.resize(tiles.size());
+  for (uint32_t t = 0; t < tiles.size(); ++t) {
+    const uint32_t f = tiles[t].face;
+    s.tileFace.push_back(f);
     const double own = sideOf(restIn.faces[f].type);
     TileSides sides{own, own, own, own, own};
+    auto sideAcross = [&](const Edge& e, double& out) {
+      const uint32_t g = across(e);
+      if (g != kNone) out = sideOf(restIn.faces[g].type);
+    };
     if (t < s.stitchCount) {
-      if (nb[f].left != kNone) sides.left = sideOf(restIn.faces[nb[f].left].type);
-      if (nb[f].right != kNone) sides.right = sideOf(restIn.faces[nb[f].right].type);
-      if (nb[f].up != kNone) sides.up = sideOf(restIn.faces[nb[f].up].type);
-      if (nb[f].down != kNone) sides.down = sideOf(restIn.faces[nb[f].down].type);
+      sideAcross(edges[f].left, sides.left);
+      sideAcross(edges[f].right, sides.right);
+      if (!edges[f].top.empty()) sideAcross(edges[f].top[0], sides.up);
+      if (!edges[f].bottom.empty()) sideAcross(edges[f].bottom[0], sides.down);
     }
     const FaceDeformation& d = fd[t];
     TileMap map{d.F, centroid(d.rest), centroid(d.deformed), options.beta};
@@ -238,52 +356,66 @@ KnitSetup buildKnitSetup(const StitchMesh& restIn, const StitchMesh& deformedIn,
     s.frames[t] = worldFrame(d.deformed);
   }
 
-  // Row yarns: follow right neighbours from a face with none on its left (or
-  // round a tube); per stitch S, red L, the upper tile's green + apex, red R.
-  std::vector<bool> visited(s.stitchCount, false);
-  auto upTile = [&](uint32_t f) { return nb[f].up != kNone ? nb[f].up : ghostOf[f]; };
+  // Row yarns: faces linked through their right edges, from a face with no
+  // face on its left (or round a tube); per tile S, red L, head, red R.
+  std::vector<bool> visited(faces, false);
+  auto rightOf = [&](uint32_t f) {
+    const uint32_t g = across(edges[f].right);
+    return g != kNone && owner.at({edges[f].right.second, edges[f].right.first}) == g &&
+                   edges[g].left == Edge{edges[f].right.second, edges[f].right.first}
+               ? g
+               : kNone;
+  };
+  auto leftOf = [&](uint32_t f) {
+    const uint32_t g = across(edges[f].left);
+    return g != kNone && edges[g].right == Edge{edges[f].left.second, edges[f].left.first} ? g : kNone;
+  };
   auto walkRow = [&](uint32_t start) {
     std::vector<uint32_t> row;
     uint32_t f = start;
     while (f != kNone && !visited[f]) {
       visited[f] = true;
       row.push_back(f);
-      f = nb[f].right;
+      f = rightOf(f);
     }
     return std::make_pair(row, f == start);
   };
   std::vector<std::pair<std::vector<uint32_t>, bool>> rows;
-  for (uint32_t f = 0; f < s.stitchCount; ++f)
-    if (nb[f].left == kNone && !visited[f]) rows.push_back(walkRow(f));
-  for (uint32_t f = 0; f < s.stitchCount; ++f)
+  for (uint32_t f = 0; f < faces; ++f)
+    if (leftOf(f) == kNone && !visited[f]) rows.push_back(walkRow(f));
+  for (uint32_t f = 0; f < faces; ++f)
     if (!visited[f]) rows.push_back(walkRow(f));  // rows closed round a tube
   for (const auto& [row, closed] : rows) {
     KnitYarn y;
     y.closed = closed;
-    for (uint32_t f : row) {
-      const uint32_t u = upTile(f);
-      for (uint32_t i : {0u, 1u, 2u, 3u}) y.points.push_back(f * FT_KNIT_TILE_POINTS + i);
-      for (uint32_t i = 4; i <= 10; ++i) y.points.push_back(u * FT_KNIT_TILE_POINTS + i);
-      for (uint32_t i : {11u, 12u, 13u}) y.points.push_back(f * FT_KNIT_TILE_POINTS + i);
-    }
+    for (uint32_t f : row)
+      for (uint32_t t = firstTile[f]; t < firstTile[f] + tileCount[f]; ++t) {
+        for (uint32_t p : range(t, 0, 3)) y.points.push_back(p);
+        for (uint32_t p : head[t]) y.points.push_back(p);
+        for (uint32_t p : range(t, 11, 13)) y.points.push_back(p);
+      }
     s.yarns.push_back(std::move(y));
   }
-  // Cast-on yarns: the heads in faces with no face below, run by run.
+  // Cast-on yarns: the heads in tiles with no loop coming in from below, run
+  // by run (a yarn-over's tile has none: nothing passes through its legs).
   for (const auto& [row, closed] : rows) {
     KnitYarn y;
+    size_t runTiles = 0, rowTiles = 0;
     auto flush = [&] {
       if (!y.points.empty()) s.yarns.push_back(std::move(y));
       y = KnitYarn{};
     };
-    for (uint32_t f : row) {
-      if (nb[f].down != kNone) {
-        flush();
-        continue;
+    for (uint32_t f : row)
+      for (uint32_t t = firstTile[f]; t < firstTile[f] + tileCount[f]; ++t) {
+        ++rowTiles;
+        if (greensUsed[t] || restIn.faces[f].count == 3) {
+          flush();
+          continue;
+        }
+        for (uint32_t p : range(t, 4, 10)) y.points.push_back(p);
+        ++runTiles;
       }
-      for (uint32_t i = 4; i <= 10; ++i) y.points.push_back(f * FT_KNIT_TILE_POINTS + i);
-    }
-    const bool allCastOn = y.points.size() == row.size() * 7;
-    y.closed = closed && allCastOn;
+    y.closed = closed && runTiles == rowTiles;
     flush();
   }
   return s;

@@ -625,7 +625,10 @@ void writeStitchObj(const StitchMesh& mesh, const std::filesystem::path& path) {
 }
 
 namespace {
-StitchMesh makePatch(std::string_view kind, int rows, int cols, double w, double h, bool ribbing) {
+enum class PatchKind { Stockinette, Ribbing, Lace };
+
+StitchMesh makePatch(std::string_view kind, int rows, int cols, double w, double h, PatchKind pattern) {
+  const bool ribbing = pattern == PatchKind::Ribbing;
   const std::string name = fmt::format("built-in {} {}x{}", kind, rows, cols);
   if (rows < 1 || cols < 1) fail(fmt::format("{}: rows and columns must be at least 1", name));
   if (int64_t{rows} * cols > kMaxGeneratedStitches) {
@@ -644,7 +647,22 @@ StitchMesh makePatch(std::string_view kind, int rows, int cols, double w, double
   }
   m.faces.reserve(size_t(rows) * cols);
   for (uint32_t r = 0; r < uint32_t(rows); ++r) {
+    const uint32_t B = r * stride, T = B + stride;  // first vertex of the row's bottom and top lines
     for (uint32_t c = 0; c < uint32_t(cols); ++c) {
+      if (pattern == PatchKind::Lace && r % 4 == 1 && c % 5 == 1 && c + 2 < uint32_t(cols)) {
+        // Eyelet: a decrease (two loops in, one out) and a yarn-over beside it.
+        m.faces.push_back({{B + c, B + c + 1, B + c + 2, T + c + 1, T + c}, 5, StitchType::Decrease, 0});
+        m.faces.push_back({{B + c + 2, T + c + 2, T + c + 1, kNoVertex, kNoVertex}, 3, StitchType::YarnOver, 0});
+        c += 1;
+        continue;
+      }
+      if (pattern == PatchKind::Lace && r % 4 == 3 && c % 5 == 2 && c + 3 < uint32_t(cols)) {
+        // An increase (one loop in, two out) and a decrease to its right.
+        m.faces.push_back({{B + c, B + c + 1, T + c + 2, T + c + 1, T + c}, 5, StitchType::Increase, 0});
+        m.faces.push_back({{B + c + 1, B + c + 2, B + c + 3, T + c + 3, T + c + 2}, 5, StitchType::Decrease, 0});
+        c += 2;
+        continue;
+      }
       const uint32_t v0 = r * stride + c;
       const StitchType type = ribbing && (c % 2 == 1) ? StitchType::Purl : StitchType::Knit;
       m.faces.push_back({{v0, v0 + 1, v0 + 1 + stride, v0 + stride, kNoVertex}, 4, type, 0});
@@ -655,10 +673,13 @@ StitchMesh makePatch(std::string_view kind, int rows, int cols, double w, double
 }  // namespace
 
 StitchMesh makeStockinette(int rows, int cols, double w, double h) {
-  return makePatch("stockinette", rows, cols, w, h, false);
+  return makePatch("stockinette", rows, cols, w, h, PatchKind::Stockinette);
 }
 StitchMesh makeRibbing1x1(int rows, int cols, double w, double h) {
-  return makePatch("ribbing1x1", rows, cols, w, h, true);
+  return makePatch("ribbing1x1", rows, cols, w, h, PatchKind::Ribbing);
+}
+StitchMesh makeLacePatch(int rows, int cols, double w, double h) {
+  return makePatch("lace", rows, cols, w, h, PatchKind::Lace);
 }
 
 std::string_view deformationKindName(Deformation::Kind kind) {

@@ -106,6 +106,14 @@ StitchMesh makeStockinette(int rows, int cols, double stitchWidth = kDefaultStit
 // Same layout; columns alternate knit (even) and purl (odd).
 StitchMesh makeRibbing1x1(int rows, int cols, double stitchWidth = kDefaultStitchWidth,
                           double stitchHeight = kDefaultStitchHeight);
+// Stockinette with every stitch type, on the same vertex grid: in rows
+// r % 4 == 1, at columns c % 5 == 1, an eyelet (a decrease pentagon over
+// columns c, c+1 and a yarn-over triangle standing on vertex c+2); in rows
+// r % 4 == 3, at columns c % 5 == 2, an increase pentagon (top split at c+1)
+// beside a decrease pentagon (bottom split at c+2). Every row keeps `cols`
+// loops, so the rows stack.
+StitchMesh makeLacePatch(int rows, int cols, double stitchWidth = kDefaultStitchWidth,
+                         double stitchHeight = kDefaultStitchHeight);
 
 // Built-in deformations, affine about the bottom-left corner of the mesh's
 // bounding box (min x, min y), with the course along +x and the wale along +y as

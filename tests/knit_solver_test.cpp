@@ -128,15 +128,37 @@ TEST(KnitYarns, RowsAreContinuousAndCoverEveryTilePointOnce) {
   EXPECT_EQ(m.curves[0].points.size(), size_t(14 * cols - 1) * FT_KNIT_UPSAMPLE + 1);
 }
 
-TEST(KnitSetupErrors, RejectsUnsupportedTypesAndBadOptions) {
-  StitchMesh m = makeStockinette(2, 2);
-  m.faces[3].type = StitchType::YarnOver;
-  try {
-    buildKnitSetup(m, m, {});
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("face 3"), std::string::npos) << e.what();
+// Every stitch type: pentagons split into two tiles, the yarn-over triangle on
+// a half-width quad; yarns stay continuous and every point is used once.
+TEST(KnitYarns, LacePatchWithEveryStitchTypeAssemblesContinuousYarns) {
+  const StitchMesh rest = makeLacePatch(8, 10);
+  int counts[5] = {0, 0, 0, 0, 0};
+  for (const StitchFace& f : rest.faces) ++counts[int(f.type)];
+  ASSERT_GT(counts[int(StitchType::Decrease)], 0);
+  ASSERT_GT(counts[int(StitchType::Increase)], 0);
+  ASSERT_GT(counts[int(StitchType::YarnOver)], 0);
+  const KnitSetup s = buildKnitSetup(rest, deform(rest, {Deformation::StretchCourse, 1.3}), {});
+  const KnitSolution sol = solveKnitCpu(s);
+  std::vector<int> uses(size_t(s.tileCount()) * FT_KNIT_TILE_POINTS, 0);
+  for (const KnitYarn& y : s.yarns)
+    for (uint32_t p : y.points) ++uses[p];
+  for (uint32_t t = 0; t < s.stitchCount; ++t) {
+    for (int i : {0, 1, 2, 3, 11, 12, 13}) EXPECT_EQ(uses[t * 14 + i], 1) << "tile " << t << " red point " << i;
+    for (int i = 4; i <= 10; ++i) EXPECT_LE(uses[t * 14 + i], 1) << "tile " << t << " green point " << i;
   }
+  double longest = 0;
+  for (const KnitYarn& y : s.yarns)
+    for (size_t i = 0; i + 1 < y.points.size(); ++i)
+      longest = std::max(longest, glm::length(sol.worldPoints[y.points[i + 1]] - sol.worldPoints[y.points[i]]));
+  // No jumps across the patch: within 1.25 stretched stitch widths (0.5 × 1.3 × 1.25).
+  EXPECT_LT(longest, 0.82);
+  for (uint32_t t = 0; t < s.tileCount(); ++t) {
+    for (int k = 0; k < 3; ++k) EXPECT_LE(sol.energy[t][k + 1], sol.energy[t][k] * (1 + 1e-12)) << t;
+    for (int i = 0; i < 14; ++i) ASSERT_TRUE(std::isfinite(sol.worldPoints[t * 14 + i].x)) << t;
+  }
+}
+
+TEST(KnitSetupErrors, RejectsBadOptions) {
   KnitOptions o;
   o.beta = 1.5;
   const StitchMesh rest = makeStockinette(2, 2);

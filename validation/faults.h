@@ -42,6 +42,9 @@ inline constexpr Fault kFaults[] = {
     {"knit-constraint-dropped", "FT_FAULT_KNIT_CONSTRAINT_DROPPED",
      "p0/p1 keep the interpolated contact direction: eq. 4 perpendicularity dropped (common/knit_solver.h)",
      "gpu.perpendicularity", "knit", "^knit/"},
+    {"knit-no-safeguard", "FT_FAULT_KNIT_NO_SAFEGUARD",
+     "Gauss-Newton steps taken even when they raise eq. 3 (common/knit_solver.h)", "gpu.energy_rises", "knit",
+     "^knit/"},
 };
 
 inline const Fault* findFault(std::string_view name) {

@@ -43,7 +43,8 @@ std::pair<StitchMesh, std::vector<Frame>> loadFrames(const KnitCommandOptions& o
       throw InputError(fmt::format("--rows/--cols: {} x {} is out of range (1 to 1000)", o.rows, o.cols));
     if (o.pattern == "stockinette") rest = makeStockinette(o.rows, o.cols);
     else if (o.pattern == "ribbing") rest = makeRibbing1x1(o.rows, o.cols);
-    else throw InputError(fmt::format("--pattern: '{}' is neither stockinette nor ribbing", o.pattern));
+    else if (o.pattern == "lace") rest = makeLacePatch(o.rows, o.cols);
+    else throw InputError(fmt::format("--pattern: '{}' is not stockinette, ribbing or lace", o.pattern));
   }
   const Deformation d = parseDeformation(o.deformation);
   if (o.frames < 1 || o.frames > 1000) throw InputError(fmt::format("--frames: {} is out of range (1 to 1000)", o.frames));

@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
   knit->add_option("--mesh", knitMeshes,
                    "stitch mesh OBJ (docs/stitch-meshes.md); give several for animation frames, the first being the "
                    "rest state (default: a built-in patch)");
-  knit->add_option("--pattern", ko.pattern, "built-in patch: stockinette or ribbing")->capture_default_str();
+  knit->add_option("--pattern", ko.pattern, "built-in patch: stockinette, ribbing or lace (eyelets, increases, decreases)")->capture_default_str();
   knit->add_option("--rows", ko.rows, "built-in patch rows")->capture_default_str();
   knit->add_option("--cols", ko.cols, "built-in patch columns")->capture_default_str();
   knit->add_option("--deform", ko.deformation,
