@@ -70,57 +70,50 @@ FT_FUNC int knitChainPoint(int c, int j) {
 
 FT_FUNC kvec2 knitDirection(kreal theta) { return kvec2(cos(theta), sin(theta)); }
 
-// Point i (0..20) for parameters t, and its derivatives with respect to the
-// two parameters of its knot: dTheta (θ_j) and dLength (l_j).
-struct KnitPointJet {
-  kvec3 x;
-  kvec3 dTheta;
-  kvec3 dLength;
-  int knot;  // -1: fixed
+// All 21 points (tile + halo) for parameters t, with their derivatives with
+// respect to Θ (nonzero only for the point's own knot's θ_j and l_j). One
+// sin/cos pair per knot.
+struct KnitJets {
+  kvec3 x[FT_KNIT_POINTS];
+  kvec3 col[FT_KNIT_POINTS][FT_KNIT_PARAMS];  // ∂x/∂Θ_p (zero for the other knot's parameters)
 };
 
-FT_FUNC KnitPointJet knitPoint(KnitProblem pr, kvec4 t, int i) {
-  KnitPointJet o;
-  ivec4 code = knitPointCode(i);
-  o.knot = code.x;
-  o.dTheta = kvec3(KR(0.0), KR(0.0), KR(0.0));
-  o.dLength = kvec3(KR(0.0), KR(0.0), KR(0.0));
-  if (code.x < 0) {
-    int s = knitFixedSlot(i);
-    o.x = kvec3(pr.fixedXY[s].x, pr.fixedXY[s].y, pr.fixedH[s]);
-    return o;
-  }
-  kreal theta = code.x == 0 ? t.x : t.y;
-  kreal len = code.x == 0 ? t.z : t.w;
-  kvec2 d = knitDirection(theta);
-  kvec2 b = kvec2(d.y, -d.x);    // b = d × n with n = +z of the frame
-  kvec2 dd = kvec2(-d.y, d.x);   // ∂d/∂θ
-  kreal sd = kreal(code.y);
-  kreal sb = kreal(code.z);
+FT_FUNC KnitJets knitJets(KnitProblem pr, kvec4 t) {
+  KnitJets o;
+  kvec2 dk[2];
+  dk[0] = knitDirection(t.x);
+  dk[1] = knitDirection(t.y);
+  for (int i = 0; i < FT_KNIT_POINTS; ++i) {
+    ivec4 code = knitPointCode(i);
+    for (int p = 0; p < FT_KNIT_PARAMS; ++p) o.col[i][p] = kvec3(KR(0.0), KR(0.0), KR(0.0));
+    if (code.x < 0) {
+      int s = knitFixedSlot(i);
+      o.x[i] = kvec3(pr.fixedXY[s].x, pr.fixedXY[s].y, pr.fixedH[s]);
+      continue;
+    }
+    kvec2 d = dk[code.x];
+    kreal len = code.x == 0 ? t.z : t.w;
+    kvec2 b = kvec2(d.y, -d.x);   // b = d × n with n = +z of the frame
+    kvec2 dd = kvec2(-d.y, d.x);  // ∂d/∂θ
+    kreal sd = kreal(code.y);
+    kreal sb = kreal(code.z);
 #ifdef FT_FAULT_KNIT_CONSTRAINT_DROPPED
-  // Planted fault: p0/p1 keep the interpolated contact direction instead of
-  // following θ, dropping the perpendicularity constraint of eq. 4.
-  kvec2 b0 = kvec2(sin(pr.theta0[code.x]), -cos(pr.theta0[code.x]));
-  kvec2 xy = pr.knot[code.x] + sd * len * d + sb * pr.radius * b0;
-  kvec2 dbTheta = kvec2(KR(0.0), KR(0.0));
+    // Planted fault: p0/p1 keep the interpolated contact direction instead of
+    // following θ, dropping the perpendicularity constraint of eq. 4.
+    kvec2 b0 = kvec2(sin(pr.theta0[code.x]), -cos(pr.theta0[code.x]));
+    kvec2 xy = pr.knot[code.x] + sd * len * d + sb * pr.radius * b0;
+    kvec2 dbTheta = kvec2(KR(0.0), KR(0.0));
 #else
-  kvec2 xy = pr.knot[code.x] + sd * len * d + sb * pr.radius * b;
-  kvec2 dbTheta = d;  // ∂b/∂θ
+    kvec2 xy = pr.knot[code.x] + sd * len * d + sb * pr.radius * b;  // eq. 1
+    kvec2 dbTheta = d;  // ∂b/∂θ
 #endif
-  o.x = kvec3(xy.x, xy.y, kreal(code.w) * pr.radius * pr.side);
-  kvec2 gT = sd * len * dd + sb * pr.radius * dbTheta;
-  kvec2 gL = sd * d;
-  o.dTheta = kvec3(gT.x, gT.y, KR(0.0));
-  o.dLength = kvec3(gL.x, gL.y, KR(0.0));
+    o.x[i] = kvec3(xy.x, xy.y, kreal(code.w) * pr.radius * pr.side);  // eq. 2
+    kvec2 gT = sd * len * dd + sb * pr.radius * dbTheta;
+    kvec2 gL = sd * d;
+    o.col[i][code.x] = kvec3(gT.x, gT.y, KR(0.0));      // θ_j
+    o.col[i][code.x + 2] = kvec3(gL.x, gL.y, KR(0.0));  // l_j
+  }
   return o;
-}
-
-// Column of a jet's derivative for parameter p (0: θ_L, 1: θ_R, 2: l_L, 3: l_R).
-FT_FUNC kvec3 knitJetColumn(KnitPointJet q, int p) {
-  if (q.knot < 0) return kvec3(KR(0.0), KR(0.0), KR(0.0));
-  if (p == q.knot) return q.dTheta;
-  if (p == q.knot + 2) return q.dLength;
-  return kvec3(KR(0.0), KR(0.0), KR(0.0));
 }
 
 // Segment lengths and interior-point cosines of the three chains, in the
@@ -133,18 +126,17 @@ struct KnitMeasures {
 
 FT_FUNC KnitMeasures knitMeasure(KnitProblem pr, kvec4 t) {
   KnitMeasures m;
+  KnitJets q = knitJets(pr, t);
   int li = 0;
   int ai = 0;
   for (int c = 0; c < 3; ++c) {
     int n = knitChainLength(c);
     for (int j = 0; j + 1 < n; ++j) {
-      kvec3 a = knitPoint(pr, t, knitChainPoint(c, j)).x;
-      kvec3 b = knitPoint(pr, t, knitChainPoint(c, j + 1)).x;
-      kvec3 e = b - a;
+      kvec3 e = q.x[knitChainPoint(c, j + 1)] - q.x[knitChainPoint(c, j)];
       m.length[li] = sqrt(dot(e, e));
       ++li;
       if (j + 2 < n) {
-        kvec3 f = knitPoint(pr, t, knitChainPoint(c, j + 2)).x - b;
+        kvec3 f = q.x[knitChainPoint(c, j + 2)] - q.x[knitChainPoint(c, j + 1)];
         m.cosine[ai] = dot(e, f) / (sqrt(dot(e, e)) * sqrt(dot(f, f)));
         ++ai;
       }
@@ -156,18 +148,19 @@ FT_FUNC KnitMeasures knitMeasure(KnitProblem pr, kvec4 t) {
 // The normal equations of one Gauss–Newton step (§5.2): A = Σ J Jᵀ and
 // g = Σ J r over the residuals r = √w (value − rest) of eq. 5 (angles, at each
 // interior chain point) and eq. 6 (lengths, each chain segment); energy = Σ r²
-// is eq. 3.
+// is eq. 3. With withJacobian false only the energy is summed.
 struct KnitNormalEquations {
   kreal a[16];
   kvec4 g;
   kreal energy;
 };
 
-FT_FUNC KnitNormalEquations knitNormalEquations(KnitProblem pr, kvec4 t, kreal wAngle, kreal wLength) {
+FT_FUNC KnitNormalEquations knitAccumulate(KnitProblem pr, kvec4 t, kreal wAngle, kreal wLength, bool withJacobian) {
   KnitNormalEquations ne;
   for (int k = 0; k < 16; ++k) ne.a[k] = KR(0.0);
   ne.g = kvec4(KR(0.0), KR(0.0), KR(0.0), KR(0.0));
   ne.energy = KR(0.0);
+  KnitJets q = knitJets(pr, t);
   kreal sa = sqrt(wAngle);
 #ifdef FT_FAULT_KNIT_LENGTH_WEIGHT
   kreal sl = wLength;  // planted fault: the weight itself used where eq. 3 needs its root
@@ -178,67 +171,70 @@ FT_FUNC KnitNormalEquations knitNormalEquations(KnitProblem pr, kvec4 t, kreal w
   int lengthIndex = 0;
   for (int c = 0; c < 3; ++c) {
     int n = knitChainLength(c);
-    KnitPointJet q0 = knitPoint(pr, t, knitChainPoint(c, 0));
-    KnitPointJet q1 = knitPoint(pr, t, knitChainPoint(c, 1));
-    KnitPointJet q2 = q1;
     for (int j = 0; j + 1 < n; ++j) {
-      kvec3 e = q1.x - q0.x;
+      int i0 = knitChainPoint(c, j);
+      int i1 = knitChainPoint(c, j + 1);
+      kvec3 e = q.x[i1] - q.x[i0];
       kreal len = sqrt(dot(e, e));
       kvec3 u = e / len;
       // Eq. 6: r = √w_length (|e| − |e0|), ∂r/∂Θ = √w_length û·(∂q1 − ∂q0).
       kreal r = sl * (len - pr.restLength[lengthIndex]);
-      kvec4 J;
-      for (int p = 0; p < 4; ++p) J[p] = sl * dot(u, knitJetColumn(q1, p) - knitJetColumn(q0, p));
-#ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
-      // Planted fault: the θ_L and l_L columns of the Jacobian swapped.
-      kreal swapTmp = J.x;
-      J.x = J.z;
-      J.z = swapTmp;
-#endif
-      for (int p = 0; p < 4; ++p)
-        for (int s = 0; s < 4; ++s) ne.a[p * 4 + s] += J[p] * J[s];
-      ne.g += J * r;
       ne.energy += r * r;
       ++lengthIndex;
+      if (withJacobian) {
+        kvec4 J;
+        for (int p = 0; p < 4; ++p) J[p] = sl * dot(u, q.col[i1][p] - q.col[i0][p]);
+#ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
+        // Planted fault: the θ_L and l_L columns of the Jacobian swapped.
+        kreal swapTmp = J.x;
+        J.x = J.z;
+        J.z = swapTmp;
+#endif
+        for (int p = 0; p < 4; ++p)
+          for (int s = 0; s < 4; ++s) ne.a[p * 4 + s] += J[p] * J[s];
+        ne.g += J * r;
+      }
       if (j + 2 < n) {
         // Eq. 5 at the interior point q1, between segments e (q0→q1) and f (q1→q2).
-        q2 = knitPoint(pr, t, knitChainPoint(c, j + 2));
-        kvec3 f = q2.x - q1.x;
+        int i2 = knitChainPoint(c, j + 2);
+        kvec3 f = q.x[i2] - q.x[i1];
         kreal lf = sqrt(dot(f, f));
         kvec3 v = f / lf;
         kreal cosine = dot(u, v);
         kreal ra = sa * (cosine - pr.restCosine[angleIndex]);
-        // ∂cos/∂e = (v − cos u)/|e|, ∂cos/∂f = (u − cos v)/|f|.
-        kvec3 ge = (v - cosine * u) / len;
-        kvec3 gf = (u - cosine * v) / lf;
-        kvec4 Ja;
-        for (int p = 0; p < 4; ++p) {
-          kvec3 d0 = knitJetColumn(q0, p);
-          kvec3 d1 = knitJetColumn(q1, p);
-          kvec3 d2 = knitJetColumn(q2, p);
-          Ja[p] = sa * (dot(ge, d1 - d0) + dot(gf, d2 - d1));
-        }
-#ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
-        swapTmp = Ja.x;
-        Ja.x = Ja.z;
-        Ja.z = swapTmp;
-#endif
-        for (int p = 0; p < 4; ++p)
-          for (int s = 0; s < 4; ++s) ne.a[p * 4 + s] += Ja[p] * Ja[s];
-        ne.g += Ja * ra;
         ne.energy += ra * ra;
         ++angleIndex;
+        if (withJacobian) {
+          // ∂cos/∂e = (v − cos u)/|e|, ∂cos/∂f = (u − cos v)/|f|.
+          kvec3 ge = (v - cosine * u) / len;
+          kvec3 gf = (u - cosine * v) / lf;
+          kvec4 Ja;
+          for (int p = 0; p < 4; ++p) Ja[p] = sa * (dot(ge, q.col[i1][p] - q.col[i0][p]) + dot(gf, q.col[i2][p] - q.col[i1][p]));
+#ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
+          kreal swapTmp2 = Ja.x;
+          Ja.x = Ja.z;
+          Ja.z = swapTmp2;
+#endif
+          for (int p = 0; p < 4; ++p)
+            for (int s = 0; s < 4; ++s) ne.a[p * 4 + s] += Ja[p] * Ja[s];
+          ne.g += Ja * ra;
+        }
       }
-      q0 = q1;
-      q1 = q2;
     }
   }
   return ne;
 }
 
-FT_FUNC kreal knitEnergy(KnitProblem pr, kvec4 t, kreal wAngle, kreal wLength) {
-  return knitNormalEquations(pr, t, wAngle, wLength).energy;
+FT_FUNC KnitNormalEquations knitNormalEquations(KnitProblem pr, kvec4 t, kreal wAngle, kreal wLength) {
+  return knitAccumulate(pr, t, wAngle, wLength, true);
 }
+
+FT_FUNC kreal knitEnergy(KnitProblem pr, kvec4 t, kreal wAngle, kreal wLength) {
+  return knitAccumulate(pr, t, wAngle, wLength, false).energy;
+}
+
+// Point i of the tile (0..20) for parameters t.
+FT_FUNC kvec3 knitPoint(KnitProblem pr, kvec4 t, int i) { return knitJets(pr, t).x[i]; }
 
 // Direct solve of A x = rhs by Cholesky (A is symmetric positive
 // semi-definite); ok = false when a pivot is not positive, e.g. a parameter
@@ -322,7 +318,8 @@ FT_FUNC KnitTileResult knitSolveTile(KnitProblem pr, kreal wAngle, kreal wLength
   }
   res.energy[it] = e;
   res.theta = t;
-  for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) res.p[i] = knitPoint(pr, t, i).x;
+  KnitJets q = knitJets(pr, t);
+  for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) res.p[i] = q.x[i];
   return res;
 }
 

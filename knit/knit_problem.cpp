@@ -434,7 +434,7 @@ std::vector<glm::dvec3> initialKnitPoints(const KnitSetup& s) {
   std::vector<glm::dvec3> out;
   out.reserve(size_t(s.tileCount()) * FT_KNIT_TILE_POINTS);
   for (const KnitProblem& p : s.problems)
-    for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) out.push_back(knit64::knitPoint(p, p.theta0, i).x);
+    for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) out.push_back(knit64::knitPoint(p, p.theta0, i));
   return out;
 }
 
