@@ -75,7 +75,9 @@ FT_FUNC kvec2 knitDirection(kreal theta) { return kvec2(cos(theta), sin(theta));
 // sin/cos pair per knot.
 struct KnitJets {
   kvec3 x[FT_KNIT_POINTS];
-  kvec3 col[FT_KNIT_POINTS][FT_KNIT_PARAMS];  // ∂x/∂Θ_p (zero for the other knot's parameters)
+  kvec3 dTheta[FT_KNIT_POINTS];   // ∂x/∂θ_j of the point's knot j
+  kvec3 dLength[FT_KNIT_POINTS];  // ∂x/∂l_j
+  int knot[FT_KNIT_POINTS];       // j, or -1 for a fixed point
 };
 
 FT_FUNC KnitJets knitJets(KnitProblem pr, kvec4 t) {
@@ -85,7 +87,9 @@ FT_FUNC KnitJets knitJets(KnitProblem pr, kvec4 t) {
   dk[1] = knitDirection(t.y);
   for (int i = 0; i < FT_KNIT_POINTS; ++i) {
     ivec4 code = knitPointCode(i);
-    for (int p = 0; p < FT_KNIT_PARAMS; ++p) o.col[i][p] = kvec3(KR(0.0), KR(0.0), KR(0.0));
+    o.knot[i] = code.x;
+    o.dTheta[i] = kvec3(KR(0.0), KR(0.0), KR(0.0));
+    o.dLength[i] = kvec3(KR(0.0), KR(0.0), KR(0.0));
     if (code.x < 0) {
       int s = knitFixedSlot(i);
       o.x[i] = kvec3(pr.fixedXY[s].x, pr.fixedXY[s].y, pr.fixedH[s]);
@@ -110,8 +114,8 @@ FT_FUNC KnitJets knitJets(KnitProblem pr, kvec4 t) {
     o.x[i] = kvec3(xy.x, xy.y, kreal(code.w) * pr.radius * pr.side);  // eq. 2
     kvec2 gT = sd * len * dd + sb * pr.radius * dbTheta;
     kvec2 gL = sd * d;
-    o.col[i][code.x] = kvec3(gT.x, gT.y, KR(0.0));      // θ_j
-    o.col[i][code.x + 2] = kvec3(gL.x, gL.y, KR(0.0));  // l_j
+    o.dTheta[i] = kvec3(gT.x, gT.y, KR(0.0));
+    o.dLength[i] = kvec3(gL.x, gL.y, KR(0.0));
   }
   return o;
 }
@@ -182,8 +186,19 @@ FT_FUNC KnitNormalEquations knitAccumulate(KnitProblem pr, kvec4 t, kreal wAngle
       ne.energy += r * r;
       ++lengthIndex;
       if (withJacobian) {
-        kvec4 J;
-        for (int p = 0; p < 4; ++p) J[p] = sl * dot(u, q.col[i1][p] - q.col[i0][p]);
+        // J[p] = √w_length û·(∂x1/∂Θ_p − ∂x0/∂Θ_p); a point moves with its own knot's θ_j, l_j only.
+        kvec4 J = kvec4(KR(0.0), KR(0.0), KR(0.0), KR(0.0));
+        int k0 = q.knot[i0];
+        int k1 = q.knot[i1];
+        if (k1 >= 0) {
+          J[k1] += dot(u, q.dTheta[i1]);
+          J[k1 + 2] += dot(u, q.dLength[i1]);
+        }
+        if (k0 >= 0) {
+          J[k0] -= dot(u, q.dTheta[i0]);
+          J[k0 + 2] -= dot(u, q.dLength[i0]);
+        }
+        J *= sl;
 #ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
         // Planted fault: the θ_L and l_L columns of the Jacobian swapped.
         kreal swapTmp = J.x;
@@ -208,8 +223,25 @@ FT_FUNC KnitNormalEquations knitAccumulate(KnitProblem pr, kvec4 t, kreal wAngle
           // ∂cos/∂e = (v − cos u)/|e|, ∂cos/∂f = (u − cos v)/|f|.
           kvec3 ge = (v - cosine * u) / len;
           kvec3 gf = (u - cosine * v) / lf;
-          kvec4 Ja;
-          for (int p = 0; p < 4; ++p) Ja[p] = sa * (dot(ge, q.col[i1][p] - q.col[i0][p]) + dot(gf, q.col[i2][p] - q.col[i1][p]));
+          // Coefficients of the three points: −ge, ge − gf, gf.
+          kvec4 Ja = kvec4(KR(0.0), KR(0.0), KR(0.0), KR(0.0));
+          int a0 = q.knot[i0];
+          int a1 = q.knot[i1];
+          int a2 = q.knot[i2];
+          kvec3 g1 = ge - gf;
+          if (a0 >= 0) {
+            Ja[a0] -= dot(ge, q.dTheta[i0]);
+            Ja[a0 + 2] -= dot(ge, q.dLength[i0]);
+          }
+          if (a1 >= 0) {
+            Ja[a1] += dot(g1, q.dTheta[i1]);
+            Ja[a1 + 2] += dot(g1, q.dLength[i1]);
+          }
+          if (a2 >= 0) {
+            Ja[a2] += dot(gf, q.dTheta[i2]);
+            Ja[a2 + 2] += dot(gf, q.dLength[i2]);
+          }
+          Ja *= sa;
 #ifdef FT_FAULT_KNIT_JACOBIAN_SWAP
           kreal swapTmp2 = Ja.x;
           Ja.x = Ja.z;
