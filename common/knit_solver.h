@@ -124,7 +124,7 @@ FT_FUNC KnitJets knitJets(KnitProblem pr, kvec4 t) {
 // residual order of knitNormalEquations: the rest values of eq. 5–6 come from
 // the template measured with this.
 struct KnitMeasures {
-  kreal length[FT_KNIT_LENGTH_RESIDUALS];
+  kreal segment[FT_KNIT_LENGTH_RESIDUALS];  // not `length`: GLSL reserves .length()
   kreal cosine[FT_KNIT_ANGLE_RESIDUALS];
 };
 
@@ -137,7 +137,7 @@ FT_FUNC KnitMeasures knitMeasure(KnitProblem pr, kvec4 t) {
     int n = knitChainLength(c);
     for (int j = 0; j + 1 < n; ++j) {
       kvec3 e = q.x[knitChainPoint(c, j + 1)] - q.x[knitChainPoint(c, j)];
-      m.length[li] = sqrt(dot(e, e));
+      m.segment[li] = sqrt(dot(e, e));
       ++li;
       if (j + 2 < n) {
         kvec3 f = q.x[knitChainPoint(c, j + 2)] - q.x[knitChainPoint(c, j + 1)];

@@ -197,7 +197,7 @@ void buildTile(const FaceFrame2D& restFrame, const TileMap& map, const TileSides
   }
 
   const knit64::KnitMeasures rest = knit64::knitMeasure(rp, rp.theta0);
-  for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i) rp.restLength[i] = rest.length[i];
+  for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i) rp.restLength[i] = rest.segment[i];
   for (int i = 0; i < FT_KNIT_ANGLE_RESIDUALS; ++i) rp.restCosine[i] = rest.cosine[i];
 
   dp.knot[0] = map.knot(kL);

@@ -277,7 +277,7 @@ CaseResult runLengthCase(ValidationContext& ctx, const Scenario& sc, const std::
     const knit64::KnitMeasures a = knit64::knitMeasure(p, s.cpu.theta[t]);
     const knit64::KnitMeasures b = knit64::knitMeasure(p, p.theta0);
     for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i) {
-      const double e = std::abs(a.length[i] / p.restLength[i] - 1), f = std::abs(b.length[i] / p.restLength[i] - 1);
+      const double e = std::abs(a.segment[i] / p.restLength[i] - 1), f = std::abs(b.segment[i] / p.restLength[i] - 1);
       optimized += e;
       naive += f;
       worstOptimized = std::max(worstOptimized, e);
