@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "gpu/fiber_gpu.h"
+#include "bench/bench_flags.h"
 #include "gpu/gl_context.h"
 #include "gpu/gpu_timer.h"
 #include "reference/fiber_reference.h"
@@ -206,19 +207,6 @@ void BM_FiberTessellation(benchmark::State& state, const Scenario* sc) {
     state.counters["compute_over_tessellation"] = median(secondsPerVertex) / median(it->second);
 }
 
-// Takes `--name=value` out of argv (benchmark::Initialize rejects unknown flags).
-bool takeFlag(int& argc, char** argv, const char* name, std::string& value) {
-  const std::string prefix = std::string("--") + name + "=";
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], prefix.c_str(), prefix.size()) == 0) {
-      value = argv[i] + prefix.size();
-      for (int j = i; j < argc - 1; ++j) argv[j] = argv[j + 1];
-      --argc;
-      return true;
-    }
-  }
-  return false;
-}
 
 // benchmark's own --benchmark_out / --benchmark_out_format, peeked at (not removed).
 std::string peekFlag(int argc, char** argv, const char* name) {
@@ -236,10 +224,10 @@ int main(int argc, char** argv) {
   g = &setup;
   try {
     setup.modelPath = FT_SOURCE_DIR "/../shared/data/yarn-models/glove.bcc";
-    takeFlag(argc, argv, "model", setup.modelPath);
-    takeFlag(argc, argv, "yarn", setup.yarnName);
-    if (std::string n; takeFlag(argc, argv, "tess_iterations", n)) setup.tessIterations = std::max(0, std::atoi(n.c_str()));
-    if (std::string n; takeFlag(argc, argv, "full_segments", n))
+    ft::takeFlag(argc, argv, "model", setup.modelPath);
+    ft::takeFlag(argc, argv, "yarn", setup.yarnName);
+    if (std::string n; ft::takeFlag(argc, argv, "tess_iterations", n)) setup.tessIterations = std::max(0, std::atoi(n.c_str()));
+    if (std::string n; ft::takeFlag(argc, argv, "full_segments", n))
       setup.fullSegments = static_cast<size_t>(std::max(1, std::atoi(n.c_str())));
     const std::string outPath = peekFlag(argc, argv, "benchmark_out");
     const std::string outFormat = peekFlag(argc, argv, "benchmark_out_format");

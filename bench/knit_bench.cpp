@@ -36,6 +36,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/bench_flags.h"
 #include "gpu/gl_context.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/knit_gpu.h"
@@ -147,19 +148,6 @@ void BM_KnitGpuFull(benchmark::State& state) {
   if (pointsFinite(state, *p.gpu, p.setup)) setCounters(state, p.setup);
 }
 
-// Takes `--name=value` out of argv (benchmark::Initialize rejects unknown flags).
-bool takeFlag(int& argc, char** argv, const char* name, std::string& value) {
-  const std::string prefix = std::string("--") + name + "=";
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], prefix.c_str(), prefix.size()) == 0) {
-      value = argv[i] + prefix.size();
-      for (int j = i; j < argc - 1; ++j) argv[j] = argv[j + 1];
-      --argc;
-      return true;
-    }
-  }
-  return false;
-}
 
 }  // namespace
 
@@ -167,7 +155,7 @@ int main(int argc, char** argv) {
   Setup setup;
   g = &setup;
   try {
-    if (std::string n; takeFlag(argc, argv, "large_iterations", n))
+    if (std::string n; ft::takeFlag(argc, argv, "large_iterations", n))
       setup.largeIterations = std::max(0, std::atoi(n.c_str()));
 
     setup.gl = ft::GlContext::create(ft::glBackendFromEnv());

@@ -129,6 +129,12 @@ GpuRun runGpu(ValidationContext& ctx, const KnitSetup& s) {
 
 double gpuEnergy(const GpuRun& g, uint32_t tile, int k) { return g.energies[tile * 3 + k / 4][k % 4]; }
 
+void setTimes(CaseResult& r, const Solved& s, const GpuRun& g) {
+  r.cpuMilliseconds = s.cpuMs;
+  r.gpuMilliseconds = g.ms;
+  r.gpuTiming = g.timing;
+}
+
 CaseResult newResult(const std::string& name) {
   CaseResult r;
   r.name = name;
@@ -180,9 +186,7 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
   r.details = fmt::format("worst point: tile {} point {} (cpu {:.7g},{:.7g},{:.7g})", worstAt / FT_KNIT_TILE_POINTS,
                           worstAt % FT_KNIT_TILE_POINTS, s.cpu.worldPoints[worstAt].x, s.cpu.worldPoints[worstAt].y,
                           s.cpu.worldPoints[worstAt].z);
-  r.cpuMilliseconds = s.cpuMs;
-  r.gpuMilliseconds = g.ms;
-  r.gpuTiming = g.timing;
+  setTimes(r, s, g);
   r.finish();
   return r;
 }
@@ -215,9 +219,7 @@ CaseResult runEnergyCase(ValidationContext& ctx, const Scenario& sc, const std::
       Metric{"gpu.energy_ratio", gpuN / gpu0, 1.0 - 1e-3, "final/initial", "as on the CPU"},
   };
   r.details = fmt::format("eq. 3 total: cpu {:.5g} -> {:.5g}, gpu {:.5g} -> {:.5g}", cpu0, cpuN, gpu0, gpuN);
-  r.cpuMilliseconds = s.cpuMs;
-  r.gpuMilliseconds = g.ms;
-  r.gpuTiming = g.timing;
+  setTimes(r, s, g);
   r.finish();
   return r;
 }
@@ -257,9 +259,7 @@ CaseResult runConstraintCase(ValidationContext& ctx, const Scenario& sc, const s
   r.metrics.push_back(Metric{"theta.max_change", thetaChange, 0, "radians",
                              "how far the optimizer turned the knots (perpendicularity is only tested where it did)",
                              false});
-  r.cpuMilliseconds = s.cpuMs;
-  r.gpuMilliseconds = g.ms;
-  r.gpuTiming = g.timing;
+  setTimes(r, s, g);
   r.finish();
   return r;
 }
