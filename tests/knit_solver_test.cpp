@@ -95,6 +95,31 @@ TEST(KnitSolver, CourseStretchKeepsTheTileSymmetric) {
   EXPECT_NEAR(t.z, t.w, 1e-9);
 }
 
+// The harness's lengths case (validation/knit_cases.cpp) can fail: with the
+// length energy of eq. 6 switched off, the optimized segments drift further
+// from their rest lengths than plain interpolation leaves them.
+double meanLengthDeviation(const KnitSetup& s, const KnitSolution* sol) {
+  double sum = 0;
+  int n = 0;
+  for (uint32_t t = 0; t < s.stitchCount; ++t) {
+    const auto& p = s.problems[t];
+    const auto m = knit64::knitMeasure(p, sol ? sol->theta[t] : p.theta0);
+    for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i, ++n) sum += std::abs(m.segment[i] / p.restLength[i] - 1);
+  }
+  return sum / n;
+}
+
+TEST(KnitSolver, LengthEnergyIsWhatKeepsSegmentLengths) {
+  KnitOptions paper, noLength;
+  noLength.wLength = 0;
+  const KnitSetup a = stretched(6, 6, {Deformation::StretchCourse, 1.4}, paper);
+  const KnitSetup b = stretched(6, 6, {Deformation::StretchCourse, 1.4}, noLength);
+  const KnitSolution sa = solveKnitCpu(a), sb = solveKnitCpu(b);
+  const double interpolated = meanLengthDeviation(a, nullptr);
+  EXPECT_LT(meanLengthDeviation(a, &sa), interpolated);
+  EXPECT_GT(meanLengthDeviation(b, &sb), interpolated);
+}
+
 TEST(KnitSolver, FloatInstanceTracksDouble) {
   const KnitSetup s = stretched(5, 5, {Deformation::Shear, 20.0});
   const KnitSolution d = solveKnitCpu(s), f = solveKnitCpuFloat(s);
