@@ -325,9 +325,10 @@ FT_FUNC KnitTileResult knitSolveTile(KnitProblem pr, kreal wAngle, kreal wLength
   res.steps = 0u;
   for (int k = 0; k <= FT_KNIT_MAX_ITERATIONS; ++k) res.energy[k] = KR(0.0);
   uint it = min(iterations, uint(FT_KNIT_MAX_ITERATIONS));
-  kreal e = knitEnergy(pr, t, wAngle, wLength);
+  kreal e = it == 0u ? knitEnergy(pr, t, wAngle, wLength) : KR(0.0);
   for (uint k = 0u; k < it; ++k) {
     KnitNormalEquations ne = knitNormalEquations(pr, t, wAngle, wLength);
+    e = ne.energy;  // the same sum, in the same order, as the accepted trial's
     res.energy[k] = e;
     KnitSolve4 s = knitCholeskySolve(ne.a, -ne.g);
     if (!s.ok) continue;

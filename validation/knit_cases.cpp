@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 
 #include "gpu/gpu_timer.h"
+#include "scene/camera.h"
+#include "scene/yarn_preset.h"
 #include "knit/knit_problem.h"
 #include "reference/knit_reference.h"
 #include "scene/input_error.h"
@@ -127,6 +129,32 @@ GpuRun runGpu(ValidationContext& ctx, const KnitSetup& s) {
   return r;
 }
 
+// A report thumbnail of yarn curves with cotton1 fibers, through a fiber
+// renderer of its own (the harness's FiberGpu holds the model under test).
+std::string knitThumbnail(ValidationContext& ctx, const YarnModel& model, const std::string& stem) {
+  struct Renderer {
+    std::unique_ptr<FiberGpu> gpu;
+    std::vector<FiberCoord> table;
+    YarnParams params{};
+  };
+  auto& slot = ctx.cache()["knit/thumbnail-renderer"];
+  if (!slot) {
+    auto r = std::make_shared<Renderer>();
+    const YarnPreset& preset = findYarnPreset("cotton1");
+    r->table = makeFiberTable(preset, ctx.options().fiber.seed);
+    r->params = makeYarnParams(preset, r->table, FiberOptions{});
+    r->gpu = std::make_unique<FiberGpu>(ctx.gl());
+    slot = r;
+  }
+  Renderer& r = *static_cast<Renderer*>(slot.get());
+  const HarnessOptions& o = ctx.options();
+  r.gpu->setModel(buildYarnBuffers(model), r.table);
+  r.gpu->setParams(r.params, makeViewParams(frameModel(model, glm::vec3(0.15f, -0.35f, 1.0f), o.imageWidth,
+                                                       o.imageHeight),
+                                            1.0f, true, true));
+  return ctx.saveImage(r.gpu->renderCompute(o.imageWidth, o.imageHeight, RenderStyle{}), stem);
+}
+
 double gpuEnergy(const GpuRun& g, uint32_t tile, int k) { return g.energies[tile * 3 + k / 4][k % 4]; }
 
 void setTimes(CaseResult& r, const Solved& s, const GpuRun& g) {
@@ -183,6 +211,10 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
              "eq. 3 per stitch and iteration; float sums of ~33 squares near convergence (+1e-9 floor)"},
       Metric{"stitches", double(s.setup.stitchCount), 0, "count", "tiles include the bind-off row", false},
   };
+  if (ctx.options().images) {
+    r.images.push_back(knitThumbnail(ctx, ref, name + "-cpu"));
+    r.images.push_back(knitThumbnail(ctx, got, name + "-gpu"));
+  }
   r.details = fmt::format("worst point: tile {} point {} (cpu {:.7g},{:.7g},{:.7g})", worstAt / FT_KNIT_TILE_POINTS,
                           worstAt % FT_KNIT_TILE_POINTS, s.cpu.worldPoints[worstAt].x, s.cpu.worldPoints[worstAt].y,
                           s.cpu.worldPoints[worstAt].z);
