@@ -183,6 +183,49 @@ TEST(KnitYarns, LacePatchWithEveryStitchTypeAssemblesContinuousYarns) {
   }
 }
 
+// A sleeve: stockinette rolled into a tube (courses round the circumference,
+// outward normals). Rows close on themselves: the row yarns are closed curves,
+// and the solve stays finite and descending on curved faces.
+StitchMesh makeTube(int rows, int cols) {
+  StitchMesh m;
+  m.name = "tube";
+  const double radius = cols * 0.5 / (2 * M_PI);
+  for (int r = 0; r <= rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const double a = 2 * M_PI * c / cols;
+      m.vertices.emplace_back(radius * std::cos(a), r * 0.45, -radius * std::sin(a));
+    }
+  for (uint32_t r = 0; r < uint32_t(rows); ++r)
+    for (uint32_t c = 0; c < uint32_t(cols); ++c) {
+      const uint32_t c1 = (c + 1) % cols, B = r * cols, T = B + cols;
+      m.faces.push_back({{B + c, B + c1, T + c1, T + c, kNoVertex}, 4, StitchType::Knit, 0});
+    }
+  return m;
+}
+
+TEST(KnitYarns, TubeRowsAreClosedYarns) {
+  const StitchMesh rest = makeTube(4, 24);
+  validateStitchMesh(rest);
+  const KnitSetup s = buildKnitSetup(rest, rest, {});
+  ASSERT_EQ(s.yarns.size(), size_t(5));  // four rows and the cast-on, all round the tube
+  for (const KnitYarn& y : s.yarns) EXPECT_TRUE(y.closed);
+  const KnitSolution sol = solveKnitCpu(s);
+  for (uint32_t t = 0; t < s.tileCount(); ++t) EXPECT_LT(sol.energy[t][3], 1e-6) << t;  // rest: nothing to do
+  // Stretched along the circumference (radius × 1.3).
+  StitchMesh wide = rest;
+  for (glm::dvec3& v : wide.vertices) v.x *= 1.3, v.z *= 1.3;
+  const KnitSetup w = buildKnitSetup(rest, wide, {});
+  const KnitSolution ws = solveKnitCpu(w);
+  double longest = 0;
+  for (const KnitYarn& y : w.yarns)
+    for (size_t i = 0; i < y.points.size(); ++i)
+      longest = std::max(longest, glm::length(ws.worldPoints[y.points[(i + 1) % y.points.size()]] -
+                                              ws.worldPoints[y.points[i]]));
+  EXPECT_LT(longest, 0.5 * 1.3);  // no jump, including the seam where the yarn closes
+  for (uint32_t t = 0; t < w.tileCount(); ++t)
+    for (int k = 0; k < 3; ++k) EXPECT_LE(ws.energy[t][k + 1], ws.energy[t][k] * (1 + 1e-12)) << t;
+}
+
 TEST(KnitSetupErrors, RejectsBadOptions) {
   KnitOptions o;
   o.beta = 1.5;
