@@ -87,10 +87,10 @@ Problem& problem(int rows, int cols, bool withGpu) {
   return p;
 }
 
-// stitches: the mesh's faces; tiles: faces + ghost stitches above the top row
+// stitches: the mesh's faces; tiles: tiles on faces + ghost stitches above the top row
 // (what is solved: one problem each); control points: 14 per tile.
 void setCounters(benchmark::State& state, const ft::KnitSetup& s) {
-  const double stitches = s.stitchCount;
+  const double stitches = s.faceCount;
   state.counters["stitches"] = stitches;
   state.counters["tiles"] = s.tileCount();
   state.counters["control_points"] = double(s.tileCount()) * FT_KNIT_TILE_POINTS;

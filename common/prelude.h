@@ -10,7 +10,10 @@
 //    (GLSL rejects an empty declaration);
 //  * use FT_PRECISE on values whose rounding decides something discrete
 //    (a period index, a LoD count): GLSL `precise` forbids FMA contraction and
-//    reassociation; the C++ side is compiled with -ffp-contract=off.
+//    reassociation; the C++ side is compiled with -ffp-contract=off;
+//  * math needed in double on the CPU and float on the GPU is written once in
+//    the types kreal/kvec2..4 and KR(x), without an include guard, and
+//    instantiated by its includer (common/knit_solver.h says how).
 #ifndef FT_PRELUDE_H
 #define FT_PRELUDE_H
 

@@ -289,6 +289,7 @@ KnitSetup buildKnitSetup(const StitchMesh& restIn, const StitchMesh& deformedIn,
   KnitSetup s;
   s.name = deformedIn.name;
   s.options = options;
+  s.faceCount = faces;
   s.stitchCount = static_cast<uint32_t>(tiles.size());
   auto range = [](uint32_t tile, uint32_t from, uint32_t to) {
     std::vector<uint32_t> out;
@@ -361,10 +362,7 @@ KnitSetup buildKnitSetup(const StitchMesh& restIn, const StitchMesh& deformedIn,
   std::vector<bool> visited(faces, false);
   auto rightOf = [&](uint32_t f) {
     const uint32_t g = across(edges[f].right);
-    return g != kNone && owner.at({edges[f].right.second, edges[f].right.first}) == g &&
-                   edges[g].left == Edge{edges[f].right.second, edges[f].right.first}
-               ? g
-               : kNone;
+    return g != kNone && edges[g].left == Edge{edges[f].right.second, edges[f].right.first} ? g : kNone;
   };
   auto leftOf = [&](uint32_t f) {
     const uint32_t g = across(edges[f].left);

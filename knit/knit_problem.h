@@ -60,8 +60,9 @@ struct KnitYarn {
 struct KnitSetup {
   std::string name;
   KnitOptions options;
-  uint32_t stitchCount = 0;  // tiles [0, stitchCount) are the mesh's faces
-  // Tiles past stitchCount are ghost stitches above faces with no face above
+  uint32_t faceCount = 0;   // stitches: the mesh's faces
+  uint32_t stitchCount = 0;  // tiles [0, stitchCount) lie on faces (a pentagon has two)
+  // Tiles past stitchCount are ghost stitches above tiles with nothing above
   // them: they only carry the heads of the top row (bind-off).
   std::vector<knit64::KnitProblem> problems;
   std::vector<KnitFrame> frames;         // deformed face frames, per tile

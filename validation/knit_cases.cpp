@@ -209,7 +209,9 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
       Metric{"points.non_finite", double(nonFinite), 0.0, "count", "never NaN or Inf"},
       Metric{"energy.max_rel", worstEnergy, 1e-2, "relative",
              "eq. 3 per stitch and iteration; float sums of ~33 squares near convergence (+1e-9 floor)"},
-      Metric{"stitches", double(s.setup.stitchCount), 0, "count", "tiles include the bind-off row", false},
+      Metric{"stitches", double(s.setup.faceCount), 0, "count", "faces of the patch", false},
+      Metric{"tiles", double(s.setup.tileCount()), 0, "count", "problems solved: tiles on faces and the bind-off ghosts",
+             false},
   };
   if (ctx.options().images) {
     r.images.push_back(knitThumbnail(ctx, ref, name + "-cpu"));

@@ -129,9 +129,10 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
     size_t vertices = 0;
     for (const YarnCurve& c : model.curves) vertices += c.points.size();
     log << fmt::format(
-        "{}: {} stitches ({} tiles with the bind-off), {} yarns, {} vertices; eq. 3 energy {:.4g} -> {:.4g} "
+        "{}: {} stitches ({} tiles, {} with the bind-off), {} yarns, {} vertices; eq. 3 energy {:.4g} -> {:.4g} "
         "after {} Gauss-Newton iterations; setup {:.1f} ms, {} solve + read-back {:.1f} ms\n",
-        bccPath.string(), setup.stitchCount, setup.tileCount(), model.curves.size(), vertices, before, after,
+        bccPath.string(), setup.faceCount, setup.stitchCount, setup.tileCount(), model.curves.size(), vertices,
+        before, after,
         o.knit.iterations, setupMs[fi], o.solver, solveMs);
     if (!o.image.empty()) {
       // One camera for a whole sequence, framing the last (most deformed) frame.
