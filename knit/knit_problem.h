@@ -10,8 +10,9 @@
 // contacts offset ±r along the normal (eq. 1–2), a sinker at (0, v_s) and the
 // head's apex at (0.5, v_a), both one radius behind the face (the knit side shows
 // the legs, the purl side the heads and sinkers). Purl is the knit tile seen
-// from the back: every normal offset negated. docs/knit-deformation.md has the
-// figure and the numbers.
+// from the back: every normal offset negated. Every other type uses the same
+// tile on a quad cut from its face. docs/knit-deformation.md has the figure
+// and the numbers.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -71,9 +72,12 @@ struct KnitSetup {
   uint32_t tileCount() const { return static_cast<uint32_t>(problems.size()); }
 };
 
-// Builds every tile's problem. Faces must be knit or purl quads; throws
-// InputError naming the mesh and face otherwise, and for degenerate, flipped
-// or collapsed faces (faceDeformations) and mismatched topologies.
+// Builds every tile's problem and the yarns through them: one tile per knit,
+// purl or yarn-over face, two per increase or decrease pentagon (split at the
+// middle of its bottom or top edge), plus ghost tiles above the top row
+// (docs/knit-deformation.md). Throws InputError naming the mesh and face for a
+// stitch type that does not fit its face, for degenerate, flipped or collapsed
+// faces (faceDeformations) and for mismatched topologies.
 KnitSetup buildKnitSetup(const StitchMesh& rest, const StitchMesh& deformed, const KnitOptions& options);
 
 // Face-frame points (tile * 14 + i) to world space.
