@@ -6,7 +6,8 @@
 #   2. AddressSanitizer + UBSan build: the input readers (BCC, presets, stitch
 #      meshes), the command line on malformed files, the GPU kernels' host code
 #      and the harness on the built-in scene (labels input and asan);
-#   3. clang libFuzzer build: a bounded fuzz run of the BCC reader.
+#   3. clang libFuzzer build: bounded fuzz runs of the BCC reader and of stitch-mesh
+#      OBJ text through the knit host side.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -23,7 +24,7 @@ cmake --build --preset asan --target bcc_reader_test yarn_preset_test stitch_mes
 # Leak checking is off: Mesa's driver keeps allocations alive until exit.
 ASAN_OPTIONS=detect_leaks=0 ctest --preset asan -L "input|asan" -j "$jobs"
 
-echo "== libFuzzer: bounded run of the BCC reader"
+echo "== libFuzzer: bounded runs of the BCC reader and the stitch-mesh reader + knit setup"
 cmake --preset fuzz
-cmake --build --preset fuzz --target bcc_fuzzer
+cmake --build --preset fuzz --target bcc_fuzzer stitch_obj_fuzzer
 ctest --preset fuzz -L fuzz
