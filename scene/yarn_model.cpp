@@ -1,6 +1,7 @@
 #include "scene/yarn_model.h"
 
 #include <cmath>
+#include <stdexcept>
 #include <fmt/format.h>
 
 #include "scene/input_error.h"
@@ -60,6 +61,19 @@ YarnBuffers buildYarnBuffers(const YarnModel& model) {
   }
   if (out.segments.empty()) throw InputError(fmt::format("{}: the model has no curve segments", model.name));
   return out;
+}
+
+void adoptLengthCoordinates(YarnBuffers& frame, const YarnBuffers& rest) {
+  if (frame.points.size() != rest.points.size() || frame.curves.size() != rest.curves.size())
+    throw std::invalid_argument(fmt::format("adoptLengthCoordinates: {} points in {} curves, rest has {} in {}",
+                                            frame.points.size(), frame.curves.size(), rest.points.size(),
+                                            rest.curves.size()));
+  for (size_t c = 0; c < frame.curves.size(); ++c) {
+    if (frame.curves[c].pointCount != rest.curves[c].pointCount || frame.curves[c].closed != rest.curves[c].closed)
+      throw std::invalid_argument(fmt::format("adoptLengthCoordinates: curve {} differs from the rest state", c));
+    frame.curves[c].totalLength = rest.curves[c].totalLength;
+  }
+  for (size_t i = 0; i < frame.points.size(); ++i) frame.points[i].positionLength.w = rest.points[i].positionLength.w;
 }
 
 Bounds modelBounds(const YarnModel& model) {

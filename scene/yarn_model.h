@@ -38,6 +38,12 @@ struct YarnBuffers {
 // model.name, the curve and the point.
 YarnBuffers buildYarnBuffers(const YarnModel& model);
 
+// Animation: gives `frame` the length coordinates (and curve lengths) of `rest`,
+// a model with the same curves and point counts, so that the fibers stay on
+// the same stretch of yarn material as it deforms (§5 fixes them at load).
+// Throws std::invalid_argument when the two do not match.
+void adoptLengthCoordinates(YarnBuffers& frame, const YarnBuffers& rest);
+
 // Axis-aligned bounds of all control points.
 struct Bounds {
   glm::vec3 lo{0.0f};

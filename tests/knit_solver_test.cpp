@@ -226,6 +226,24 @@ TEST(KnitYarns, TubeRowsAreClosedYarns) {
     for (int k = 0; k < 3; ++k) EXPECT_LE(ws.energy[t][k + 1], ws.energy[t][k] * (1 + 1e-12)) << t;
 }
 
+// Animation keeps the rest state's length coordinates (the fibers' material
+// coordinate), so the yarn models of every frame must line up point for point.
+TEST(KnitYarns, FramesShareTheRestStateYarnLayout) {
+  const StitchMesh rest = makeLacePatch(6, 8);
+  const KnitSetup r = buildKnitSetup(rest, rest, {});
+  const KnitSetup d = buildKnitSetup(rest, deform(rest, {Deformation::StretchWale, 1.5}), {});
+  YarnBuffers restBuffers = buildYarnBuffers(knitYarnModel(r, liftKnitPoints(r, initialKnitPoints(r)), true));
+  YarnBuffers frame = buildYarnBuffers(knitYarnModel(d, solveKnitCpu(d).worldPoints, true));
+  const glm::vec4 p0 = frame.points[100].positionLength;
+  adoptLengthCoordinates(frame, restBuffers);
+  EXPECT_EQ(frame.points[100].positionLength.w, restBuffers.points[100].positionLength.w);
+  EXPECT_EQ(glm::vec3(frame.points[100].positionLength), glm::vec3(p0));
+  EXPECT_GT(p0.w, frame.points[100].positionLength.w);  // the stretched yarn is longer than its material
+  YarnBuffers other = buildYarnBuffers(knitYarnModel(buildKnitSetup(makeStockinette(6, 8), makeStockinette(6, 8), {}),
+                                                     solveKnitCpu(d).worldPoints, false));
+  EXPECT_THROW(adoptLengthCoordinates(other, restBuffers), std::invalid_argument);
+}
+
 TEST(KnitSetupErrors, RejectsBadOptions) {
   KnitOptions o;
   o.beta = 1.5;

@@ -91,10 +91,16 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
 
   std::vector<FiberCoord> table;
   YarnParams params{};
+  YarnBuffers restBuffers;
   if (!o.image.empty()) {
     table = makeFiberTable(preset, o.fiber.seed);
     params = makeYarnParams(preset, table, o.fiber);
     fiberGpu = std::make_unique<FiberGpu>(context->info());
+    // Fibers follow the yarn material: every frame keeps the rest state's
+    // length coordinates, so twist and flyaways stretch with the yarn instead
+    // of sliding along it.
+    const KnitSetup restSetup = buildKnitSetup(rest, rest, o.knit);
+    restBuffers = buildYarnBuffers(knitYarnModel(restSetup, liftKnitPoints(restSetup, initialKnitPoints(restSetup)), true));
   }
   Camera camera;
   const bool sequence = frames.size() > 1;
@@ -144,7 +150,9 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
         }
         camera = frameModel(framing, glm::vec3(0.15f, -0.35f, 1.0f), o.width, o.height);
       }
-      fiberGpu->setModel(buildYarnBuffers(model), table);
+      YarnBuffers buffers = buildYarnBuffers(model);
+      adoptLengthCoordinates(buffers, restBuffers);
+      fiberGpu->setModel(buffers, table);
       fiberGpu->setParams(params, makeViewParams(camera, 1.0f, true, true));
       RenderStyle style;
       style.lightDir = glm::normalize(glm::vec3(0.3f, 0.6f, 0.8f));
