@@ -4,7 +4,9 @@
 // Rules for common/ (so both compilers accept the same text):
 //  * no STL, templates, references, swizzles or function overloading on
 //    return type; functions are pure and return values (GLSL has no pointers);
-//  * mark functions FT_FUNC (inline in C++, nothing in GLSL);
+//  * mark functions FT_FUNC (inline in C++, nothing in GLSL); FT_INLINE for
+//    small helpers of hot loops that take structs by value (forced inline in
+//    C++, where an outlined call copies the struct; GLSL inlines everything);
 //  * float literals carry an `f` suffix and unsigned ones a `u` suffix;
 //  * layout asserts (FT_ASSERT_OFFSET/FT_ASSERT_SIZE) take no trailing `;`
 //    (GLSL rejects an empty declaration);
@@ -23,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 #define FT_FUNC inline
+#define FT_INLINE inline __attribute__((always_inline))
 #define FT_PRECISE
 #define FT_STATIC_ASSERT(cond, msg) static_assert(cond, msg);
 #define FT_ASSERT_OFFSET(type, member, off) \
@@ -41,6 +44,7 @@ typedef std::uint32_t uint;
 #define FT_NAMESPACE_END }
 #else  // GLSL
 #define FT_FUNC
+#define FT_INLINE
 #define FT_PRECISE precise
 #define FT_STATIC_ASSERT(cond, msg)
 #define FT_ASSERT_OFFSET(type, member, off)

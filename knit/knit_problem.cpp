@@ -422,8 +422,7 @@ KnitSetup buildKnitSetup(const StitchMesh& restIn, const StitchMesh& deformedIn,
 std::vector<glm::dvec3> liftKnitPoints(const KnitSetup& s, const std::vector<glm::dvec3>& p) {
   std::vector<glm::dvec3> out(p.size());
   for (size_t i = 0; i < p.size(); ++i) {
-    const KnitFrame& f = s.frames[i / FT_KNIT_TILE_POINTS];
-    out[i] = f.origin + p[i].x * f.e1 + p[i].y * f.e2 + p[i].z * f.n;
+    out[i] = s.frames[i / FT_KNIT_TILE_POINTS].toWorld(p[i]);
   }
   return out;
 }

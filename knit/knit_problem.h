@@ -50,6 +50,7 @@ void validateKnitOptions(const KnitOptions& o);
 // A face frame in world space: point = origin + x e1 + y e2 + z n.
 struct KnitFrame {
   glm::dvec3 origin, e1, e2, n;
+  glm::dvec3 toWorld(const glm::dvec3& p) const { return origin + p.x * e1 + p.y * e2 + p.z * n; }
 };
 
 // One yarn: global control-point indices (tile * 14 + point) in yarn order.

@@ -20,26 +20,30 @@ knit32::KnitProblem toFloat(const knit64::KnitProblem& p) {
   return q;
 }
 
+// Sizes `out` for the setup (no reallocation when it already fits, as from
+// the previous frame of an animation) and solves every tile into it.
 template <class SolveTile>
-KnitSolution solveAll(const KnitSetup& s, SolveTile solveTile) {
+void solveAll(const KnitSetup& s, KnitSolution& out, SolveTile solveTile) {
   const uint32_t n = s.tileCount();
-  KnitSolution out;
   out.framePoints.resize(size_t(n) * FT_KNIT_TILE_POINTS);
+  out.worldPoints.resize(out.framePoints.size());
   out.energy.resize(n);
   out.theta.resize(n);
   out.steps.resize(n);
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 64), [&](const tbb::blocked_range<uint32_t>& range) {
-    for (uint32_t t = range.begin(); t != range.end(); ++t) solveTile(t, out);
+    for (uint32_t t = range.begin(); t != range.end(); ++t) {
+      solveTile(t, out);
+      for (size_t i = size_t(t) * FT_KNIT_TILE_POINTS; i < size_t(t + 1) * FT_KNIT_TILE_POINTS; ++i)
+        out.worldPoints[i] = s.frames[t].toWorld(out.framePoints[i]);
+    }
   });
-  out.worldPoints = liftKnitPoints(s, out.framePoints);
-  return out;
 }
 
 }  // namespace
 
-KnitSolution solveKnitCpu(const KnitSetup& s) {
+void solveKnitCpu(const KnitSetup& s, KnitSolution& solution) {
   const KnitOptions& o = s.options;
-  return solveAll(s, [&](uint32_t t, KnitSolution& out) {
+  solveAll(s, solution, [&](uint32_t t, KnitSolution& out) {
     const knit64::KnitTileResult r =
         knit64::knitSolveTile(s.problems[t], o.wAngle, o.wLength, static_cast<uint32_t>(o.iterations));
     for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i) out.framePoints[size_t(t) * FT_KNIT_TILE_POINTS + i] = r.p[i];
@@ -49,9 +53,16 @@ KnitSolution solveKnitCpu(const KnitSetup& s) {
   });
 }
 
+KnitSolution solveKnitCpu(const KnitSetup& s) {
+  KnitSolution out;
+  solveKnitCpu(s, out);
+  return out;
+}
+
 KnitSolution solveKnitCpuFloat(const KnitSetup& s) {
   const KnitOptions& o = s.options;
-  return solveAll(s, [&](uint32_t t, KnitSolution& out) {
+  KnitSolution solution;
+  solveAll(s, solution, [&](uint32_t t, KnitSolution& out) {
     const knit32::KnitTileResult r = knit32::knitSolveTile(toFloat(s.problems[t]), float(o.wAngle),
                                                            float(o.wLength), static_cast<uint32_t>(o.iterations));
     for (int i = 0; i < FT_KNIT_TILE_POINTS; ++i)
@@ -60,6 +71,7 @@ KnitSolution solveKnitCpuFloat(const KnitSetup& s) {
     out.theta[t] = glm::dvec4(r.theta);
     out.steps[t] = r.steps;
   });
+  return solution;
 }
 
 }  // namespace ft

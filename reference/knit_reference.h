@@ -20,6 +20,9 @@ struct KnitSolution {
 };
 
 KnitSolution solveKnitCpu(const KnitSetup& setup);
+// The same into `solution`, reusing its storage when it already has the
+// setup's size (an animation solving frame after frame).
+void solveKnitCpu(const KnitSetup& setup, KnitSolution& solution);
 // The same in float (ft::knit32): the GPU's arithmetic on the CPU, to tell
 // float rounding from an algorithmic difference.
 KnitSolution solveKnitCpuFloat(const KnitSetup& setup);

@@ -49,6 +49,94 @@ TEST(KnitSolver, GradientMatchesFiniteDifferences) {
   }
 }
 
+// The dense 4×4 A of the block normal equations, in Θ order.
+glm::dmat4 denseNormalMatrix(const knit64::KnitNormalEquations& ne) {
+  glm::dmat4 a(0.0);  // a[column][row]
+  const double LL[3] = {ne.LL.x, ne.LL.y, ne.LL.z}, RR[3] = {ne.RR.x, ne.RR.y, ne.RR.z};
+  auto set = [&](int i, int j, double v) { a[i][j] = a[j][i] = v; };
+  set(0, 0, LL[0]), set(0, 2, LL[1]), set(2, 2, LL[2]);  // θ_L, l_L
+  set(1, 1, RR[0]), set(1, 3, RR[1]), set(3, 3, RR[2]);  // θ_R, l_R
+  set(0, 1, ne.LR.x), set(0, 3, ne.LR.y), set(2, 1, ne.LR.z), set(2, 3, ne.LR.w);
+  return a;
+}
+
+// A = Σ J Jᵀ is assembled from per-knot blocks; checked entry by entry against
+// JᵀJ with J from central differences of every residual, through knitMeasure
+// (lengths and cosines: a path that shares no Jacobian code). Tolerance: the
+// O(h²) truncation error of the differences, h = 1e-6, relative to |A|.
+TEST(KnitSolver, NormalMatrixIsTheJacobianGramian) {
+  const KnitSetup s = stretched(3, 3, {Deformation::Shear, 25.0});
+  const KnitOptions& o = s.options;
+  for (uint32_t t : {0u, 4u, 8u, 10u}) {
+    const knit64::KnitProblem& p = s.problems[t];
+    const glm::dvec4 theta = p.theta0 + glm::dvec4(0.05, -0.03, 0.01, 0.004);
+    const glm::dmat4 A = denseNormalMatrix(knit64::knitNormalEquations(p, theta, o.wAngle, o.wLength));
+    double J[FT_KNIT_LENGTH_RESIDUALS + FT_KNIT_ANGLE_RESIDUALS][4];
+    for (int k = 0; k < 4; ++k) {
+      const double h = 1e-6;
+      glm::dvec4 a = theta, b = theta;
+      a[k] += h;
+      b[k] -= h;
+      const auto ma = knit64::knitMeasure(p, a), mb = knit64::knitMeasure(p, b);
+      for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i)
+        J[i][k] = std::sqrt(o.wLength) * (ma.segment[i] - mb.segment[i]) / (2 * h);
+      for (int i = 0; i < FT_KNIT_ANGLE_RESIDUALS; ++i)
+        J[FT_KNIT_LENGTH_RESIDUALS + i][k] = std::sqrt(o.wAngle) * (ma.cosine[i] - mb.cosine[i]) / (2 * h);
+    }
+    double scale = 0;
+    for (int i = 0; i < 4; ++i) scale = std::max(scale, std::abs(A[i][i]));
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        double jtj = 0;
+        for (const auto& row : J) jtj += row[i] * row[j];
+        EXPECT_NEAR(A[j][i], jtj, 1e-6 * scale) << "tile " << t << " A(" << i << "," << j << ")";
+      }
+  }
+}
+
+// The block L D Lᵀ solve against Gaussian elimination with partial pivoting on
+// the dense A; tolerance: 1e-9 relative (A's condition number here is < 1e5).
+TEST(KnitSolver, BlockSolveMatchesDenseElimination) {
+  const KnitSetup s = stretched(3, 3, {Deformation::StretchCourse, 1.4});
+  const KnitOptions& o = s.options;
+  for (uint32_t t : {1u, 4u, 7u}) {
+    const knit64::KnitProblem& p = s.problems[t];
+    const auto ne = knit64::knitNormalEquations(p, p.theta0 + glm::dvec4(0.02, 0.01, -0.003, 0.002), o.wAngle,
+                                                o.wLength);
+    const glm::dvec4 rhs(0.3, -1.2, 0.7, 2.0);
+    const knit64::KnitSolve4 x = knit64::knitSolveNormalEquations(ne, rhs);
+    ASSERT_TRUE(x.ok) << t;
+    double m[4][5];
+    const glm::dmat4 A = denseNormalMatrix(ne);
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) m[i][j] = A[j][i];
+      m[i][4] = rhs[i];
+    }
+    for (int c = 0; c < 4; ++c) {
+      int piv = c;
+      for (int r = c + 1; r < 4; ++r)
+        if (std::abs(m[r][c]) > std::abs(m[piv][c])) piv = r;
+      for (int j = 0; j < 5; ++j) std::swap(m[c][j], m[piv][j]);
+      for (int r = c + 1; r < 4; ++r) {
+        const double f = m[r][c] / m[c][c];
+        for (int j = c; j < 5; ++j) m[r][j] -= f * m[c][j];
+      }
+    }
+    double ref[4];
+    for (int i = 3; i >= 0; --i) {
+      double v = m[i][4];
+      for (int j = i + 1; j < 4; ++j) v -= m[i][j] * ref[j];
+      ref[i] = v / m[i][i];
+    }
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(x.x[i], ref[i], 1e-9 * std::max(1.0, std::abs(ref[i]))) << t << " " << i;
+  }
+  // A parameter that no residual sees: the system is singular and no step is taken.
+  knit64::KnitNormalEquations singular{};
+  singular.LL = glm::dvec3(1, 0, 0);  // l_L unseen
+  singular.RR = glm::dvec3(2, 0.1, 1);
+  EXPECT_FALSE(knit64::knitSolveNormalEquations(singular, glm::dvec4(1)).ok);
+}
+
 TEST(KnitSolver, RestTemplateHasZeroEnergyAndStays) {
   const StitchMesh rest = makeStockinette(4, 5);
   const KnitSetup s = buildKnitSetup(rest, rest, {});
