@@ -50,6 +50,16 @@ namespace {
 
 // The benchmarked sizes (rows, cols): ~3.6K, ~5.7K and 50K stitches.
 constexpr std::pair<int, int> kSizes[] = {{60, 60}, {75, 76}, {250, 200}};
+
+// 001_dce8d4d1f783b802.txt Table 1 "Sim." (CUDA, RTX 3090) for the scenes of these
+// sizes. Its "Yarn CPs" are rendering vertices, 56 per stitch (§5.2): Flame, 200K
+// ≈ 3.6K stitches, 1.05 ms; Relaxation (Fig. 17), 319K ≈ 5.7K stitches, 2.50 ms.
+// 0: no scene of that size in the paper.
+double paperSimMs(int rows, int cols) {
+  if (rows * cols == 3600) return 1.05;
+  if (rows * cols == 5700) return 2.50;
+  return 0;
+}
 constexpr int kLargeStitches = 20000;  // sizes above this use --large_iterations
 
 // One size, built on first use and kept for every repetition.
@@ -97,6 +107,8 @@ void setCounters(benchmark::State& state, const ft::KnitSetup& s) {
   state.counters["control_points"] = double(s.tileCount()) * FT_KNIT_TILE_POINTS;
   state.counters["stitches_per_second"] =
       benchmark::Counter(stitches * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  if (const double ms = paperSimMs(static_cast<int>(state.range(0)), static_cast<int>(state.range(1))); ms > 0)
+    state.counters["paper_sim_ms"] = ms;
 }
 
 void BM_KnitCpu(benchmark::State& state) {
@@ -177,11 +189,11 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("knit_options", fmt::format("w_angle {}, w_length {}, iterations {}, yarn radius {}",
                                                             o.wAngle, o.wLength, o.iterations, o.yarnRadius));
     benchmark::AddCustomContext("large_iterations", std::to_string(setup.largeIterations));
-    // 001_dce8d4d1f783b802.txt Table 1 (simulation time, CUDA on an RTX 3090).
-    benchmark::AddCustomContext("paper_sim_ms_38k_200k_control_points",
-                                "1.05 (Table 1: Ribbing 38K CPs 1.02 ms ... Flame 200K CPs 1.05 ms; RTX 3090)");
-    benchmark::AddCustomContext("paper_sim_ms_319k_control_points", "2.5 (Table 1: Relaxation, Fig. 17; RTX 3090)");
-    benchmark::AddCustomContext("paper_source", "001_dce8d4d1f783b802.txt");
+    // 001_dce8d4d1f783b802.txt Table 1 (simulation time, CUDA on an RTX 3090); counter paper_sim_ms.
+    benchmark::AddCustomContext("paper_sim_ms",
+                                "60/60: 1.05 (Flame, 200K yarn CPs = 56 per stitch, ~3.6K stitches); "
+                                "75/76: 2.50 (Relaxation, Fig. 17, 319K yarn CPs, ~5.7K stitches); RTX 3090");
+    benchmark::AddCustomContext("paper_source", "001_dce8d4d1f783b802.txt Table 1");
 
     struct Kind {
       const char* name;
