@@ -27,23 +27,30 @@ double totalEnergy(const KnitSetup& s, bool initial) {
   return e;
 }
 
+// The finite-difference checks below: four tiles of a sheared 3×3 patch at a
+// Θ off the interpolated one, and central differences with step h along Θ_k.
+constexpr uint32_t kProbeTiles[] = {0u, 4u, 8u, 10u};
+constexpr double kStep = 1e-6;
+glm::dvec4 probeTheta(const knit64::KnitProblem& p) { return p.theta0 + glm::dvec4(0.05, -0.03, 0.01, 0.004); }
+glm::dvec4 stepped(glm::dvec4 theta, int k, double h) {
+  theta[k] += h;
+  return theta;
+}
+
 // The Jacobian rows of knitNormalEquations are checked through g = Σ J r =
 // ∇E / 2 against central differences of E (eq. 3); tolerance: the difference
 // quotient's truncation error, O(h²) relative with h = 1e-6.
 TEST(KnitSolver, GradientMatchesFiniteDifferences) {
   const KnitSetup s = stretched(3, 3, {Deformation::Shear, 25.0});
   const KnitOptions& o = s.options;
-  for (uint32_t t : {0u, 4u, 8u, 10u}) {
+  for (uint32_t t : kProbeTiles) {
     const knit64::KnitProblem& p = s.problems[t];
-    const glm::dvec4 theta = p.theta0 + glm::dvec4(0.05, -0.03, 0.01, 0.004);
+    const glm::dvec4 theta = probeTheta(p);
     const auto ne = knit64::knitNormalEquations(p, theta, o.wAngle, o.wLength);
     for (int k = 0; k < 4; ++k) {
-      const double h = 1e-6;
-      glm::dvec4 a = theta, b = theta;
-      a[k] += h;
-      b[k] -= h;
-      const double fd = (knit64::knitEnergy(p, a, o.wAngle, o.wLength) - knit64::knitEnergy(p, b, o.wAngle, o.wLength)) /
-                        (2 * h);
+      const double fd = (knit64::knitEnergy(p, stepped(theta, k, kStep), o.wAngle, o.wLength) -
+                         knit64::knitEnergy(p, stepped(theta, k, -kStep), o.wAngle, o.wLength)) /
+                        (2 * kStep);
       EXPECT_NEAR(2 * ne.g[k], fd, 1e-6 * std::max(1.0, std::abs(fd))) << "tile " << t << " parameter " << k;
     }
   }
@@ -67,21 +74,18 @@ glm::dmat4 denseNormalMatrix(const knit64::KnitNormalEquations& ne) {
 TEST(KnitSolver, NormalMatrixIsTheJacobianGramian) {
   const KnitSetup s = stretched(3, 3, {Deformation::Shear, 25.0});
   const KnitOptions& o = s.options;
-  for (uint32_t t : {0u, 4u, 8u, 10u}) {
+  for (uint32_t t : kProbeTiles) {
     const knit64::KnitProblem& p = s.problems[t];
-    const glm::dvec4 theta = p.theta0 + glm::dvec4(0.05, -0.03, 0.01, 0.004);
+    const glm::dvec4 theta = probeTheta(p);
     const glm::dmat4 A = denseNormalMatrix(knit64::knitNormalEquations(p, theta, o.wAngle, o.wLength));
     double J[FT_KNIT_LENGTH_RESIDUALS + FT_KNIT_ANGLE_RESIDUALS][4];
     for (int k = 0; k < 4; ++k) {
-      const double h = 1e-6;
-      glm::dvec4 a = theta, b = theta;
-      a[k] += h;
-      b[k] -= h;
-      const auto ma = knit64::knitMeasure(p, a), mb = knit64::knitMeasure(p, b);
+      const auto ma = knit64::knitMeasure(p, stepped(theta, k, kStep));
+      const auto mb = knit64::knitMeasure(p, stepped(theta, k, -kStep));
       for (int i = 0; i < FT_KNIT_LENGTH_RESIDUALS; ++i)
-        J[i][k] = std::sqrt(o.wLength) * (ma.segment[i] - mb.segment[i]) / (2 * h);
+        J[i][k] = std::sqrt(o.wLength) * (ma.segment[i] - mb.segment[i]) / (2 * kStep);
       for (int i = 0; i < FT_KNIT_ANGLE_RESIDUALS; ++i)
-        J[FT_KNIT_LENGTH_RESIDUALS + i][k] = std::sqrt(o.wAngle) * (ma.cosine[i] - mb.cosine[i]) / (2 * h);
+        J[FT_KNIT_LENGTH_RESIDUALS + i][k] = std::sqrt(o.wAngle) * (ma.cosine[i] - mb.cosine[i]) / (2 * kStep);
     }
     double scale = 0;
     for (int i = 0; i < 4; ++i) scale = std::max(scale, std::abs(A[i][i]));
