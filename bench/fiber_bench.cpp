@@ -12,7 +12,7 @@
 // Counters and how to compare runs: docs/benchmarks.md.
 //
 // Own flags (parsed and removed before benchmark::Initialize):
-//   --model=PATH          BCC yarn-level model (default: ../shared/data/yarn-models/glove.bcc
+//   --model=PATH          BCC yarn-level model (default: data/yarn-models/glove.bcc
 //                         next to the source tree)
 //   --yarn=NAME           built-in yarn preset (default cotton1)
 //   --tess_iterations=N   iterations per tessellation repetition (default 2: llvmpipe's
@@ -223,7 +223,7 @@ int main(int argc, char** argv) {
   Setup setup;
   g = &setup;
   try {
-    setup.modelPath = FT_SOURCE_DIR "/../shared/data/yarn-models/glove.bcc";
+    setup.modelPath = FT_SOURCE_DIR "/data/yarn-models/glove.bcc";
     ft::takeFlag(argc, argv, "model", setup.modelPath);
     ft::takeFlag(argc, argv, "yarn", setup.yarnName);
     if (std::string n; ft::takeFlag(argc, argv, "tess_iterations", n)) setup.tessIterations = std::max(0, std::atoi(n.c_str()));

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "scene/input_error.h"
+#include "tests/test_data.h"
 
 namespace fs = std::filesystem;
 using ft::InputError;
@@ -359,16 +360,6 @@ TEST(BccReader, ReadErrorsNameThePath) {
 }
 
 namespace {
-// FT_SHARED_DIR (set by ctest), else <FT_SOURCE_DIR>/../shared; empty if neither has the file.
-fs::path sharedModel(const char* name) {
-  const char* shared = std::getenv("FT_SHARED_DIR");
-  const char* source = std::getenv("FT_SOURCE_DIR");
-  const fs::path dir = shared ? fs::path(shared) : source ? fs::path(source) / ".." / "shared" : fs::path{};
-  if (dir.empty()) return {};
-  const fs::path p = dir / "data" / "yarn-models" / name;
-  return fs::exists(p) ? p : fs::path{};
-}
-
 uint64_t headerU64(const fs::path& p, size_t offset) {
   const auto bytes = readAll(p);
   uint64_t v = 0;
@@ -384,8 +375,7 @@ size_t totalPoints(const YarnModel& m) {
 }  // namespace
 
 TEST(BccReaderRealFiles, Fiber) {
-  const fs::path p = sharedModel("fiber.bcc");
-  if (p.empty()) GTEST_SKIP() << "fiber.bcc not found: set FT_SHARED_DIR to the shared/ directory";
+  const fs::path p = ft::test::yarnModel("fiber.bcc");
   const YarnModel m = ft::readBcc(p);
   ASSERT_EQ(m.curves.size(), 1u);
   EXPECT_FALSE(m.curves[0].closed);
@@ -398,8 +388,7 @@ TEST(BccReaderRealFiles, Fiber) {
 }
 
 TEST(BccReaderRealFiles, Glove) {
-  const fs::path p = sharedModel("glove.bcc");
-  if (p.empty()) GTEST_SKIP() << "glove.bcc not found: set FT_SHARED_DIR to the shared/ directory";
+  const fs::path p = ft::test::yarnModel("glove.bcc");
   EXPECT_EQ(headerU64(p, 8), 70u);
   EXPECT_EQ(headerU64(p, 16), 58545u);
   const YarnModel m = ft::readBcc(p);

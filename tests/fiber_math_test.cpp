@@ -13,6 +13,7 @@
 #include "scene/camera.h"
 #include "scene/default_scene.h"
 #include "scene/yarn_fibers.h"
+#include "tests/test_data.h"
 
 namespace ft {
 namespace {
@@ -138,10 +139,7 @@ TEST(YarnFrame, PlanarCurveNormalKeepsItsAngleToThePlane) {
 // this near vertical yarn, a Frenet frame at every inflection.
 TEST(YarnFrame, RealModelsNormalsTurnNoMoreThanTangents) {
   for (const char* name : {"glove.bcc", "fiber.bcc"}) {
-    const char* shared = std::getenv("FT_SHARED_DIR");
-    const std::filesystem::path path =
-        std::filesystem::path(shared ? shared : "../shared") / "data" / "yarn-models" / name;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found (set FT_SHARED_DIR)";
+    const std::filesystem::path path = ft::test::yarnModel(name);
     const SceneData s(readBcc(path));
     size_t checked = 0;
     for (const CurveInfo& c : s.buffers.curves) {

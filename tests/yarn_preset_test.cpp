@@ -143,7 +143,7 @@ TEST(YarnPreset, BuiltinTable) {
   EXPECT_EQ(ft::findYarnPreset("polyester1").hairZe.mu, -0.00543297);
 }
 
-// The embedded copy matches the repository file and the shared data file.
+// The embedded copy matches the repository file.
 TEST(YarnPreset, BuiltinMatchesDataFiles) {
   const auto& builtin = ft::builtinYarnPresets();
   const char* src = std::getenv("FT_SOURCE_DIR");
@@ -152,15 +152,6 @@ TEST(YarnPreset, BuiltinMatchesDataFiles) {
   const auto fromRepo = parseYarnPresets(readText(repoFile), repoFile.string());
   ASSERT_EQ(fromRepo.size(), builtin.size());
   for (size_t i = 0; i < builtin.size(); ++i) expectSame(fromRepo[i], builtin[i]);
-  const char* shared = std::getenv("FT_SHARED_DIR");
-  const fs::path sharedDir = shared ? fs::path(shared) : src ? fs::path(src) / ".." / "shared" : fs::path{};
-  const fs::path sharedFile = sharedDir / "data" / "yarn-presets.tsv";
-  if (sharedDir.empty() || !fs::exists(sharedFile)) {
-    GTEST_SKIP() << "shared yarn-presets.tsv not found: set FT_SHARED_DIR to the shared/ directory";
-  }
-  const auto fromShared = parseYarnPresets(readText(sharedFile), sharedFile.string());
-  ASSERT_EQ(fromShared.size(), builtin.size());
-  for (size_t i = 0; i < builtin.size(); ++i) expectSame(fromShared[i], builtin[i]);
 }
 
 TEST(YarnPreset, FindUnknownListsKnownNames) {
