@@ -46,6 +46,7 @@
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"
 #include "scene/yarn_preset.h"
+#include "scene/yarn_radius.h"
 
 #ifndef FT_SOURCE_DIR
 #define FT_SOURCE_DIR "."
@@ -235,9 +236,12 @@ int main(int argc, char** argv) {
     setup.model = ft::readBcc(setup.modelPath);
     setup.buffers = ft::buildYarnBuffers(setup.model);
     setup.preset = &ft::findYarnPreset(setup.yarnName);
-    const ft::FiberOptions options;  // defaults
-    setup.table = ft::makeFiberTable(*setup.preset, options.seed);
-    setup.params = ft::makeYarnParams(*setup.preset, setup.table, options);
+    const ft::FiberOptions options;  // defaults: the preset fitted to the model's estimated yarn radius
+    ft::FittedFibers fitted = ft::fitFibers(*setup.preset, setup.model, options);
+    setup.table = std::move(fitted.table);
+    setup.params = fitted.params;
+    benchmark::AddCustomContext("yarn_radius", fmt::format("{:.4g} ({}, preset scaled {:.3f}x)", fitted.fit.radius,
+                                                            fitted.fit.source, fitted.fit.scale));
     setup.cpuFrames = ft::computeKnotFramesCpu(setup.buffers);
 
     setup.gl = ft::GlContext::create(ft::glBackendFromEnv());

@@ -95,7 +95,8 @@ FT_FUNC CachedFiberVertex ftFiberVertexAt(YarnParams p, TwistRates r, YarnSample
   out_.vertex.id.x = yarn;
   out_.vertex.id.y = segment;
   if (slot == 0u) {  // the core fiber runs along the ply centre (§3.2)
-    out_.vertex.position = vec4(f.center + pf.offset, d.coreHalfWidth);
+    FT_PRECISE float t = float(vertex) / float(d.subdivisions);
+    out_.vertex.position = vec4(f.center + pf.offset, mix(d.coreHalfWidth, d.coreHalfWidthEnd, t));
     out_.vertex.id.z = ftPackFiberId(ply, FT_CORE_FIBER_ID);
     out_.vertex.id.w = ftPackTypeVertex(FT_FIBER_CORE, vertex, 0u);
     return out_;

@@ -16,16 +16,17 @@ FT_ASSERT_SIZE(FiberVertex, 32)
 
 struct SegmentDecision {
   float lambda;          // λ of eq. 4
-  float coreHalfWidth;   // core fiber half-width after LoD scaling
+  float coreHalfWidth;   // core fiber half-width after LoD scaling at t = 0 (lod.h)
   uint regularCount;     // regular fibers per ply generated (outermost first)
   uint subdivisions;     // line segments per fiber; 0 when culled
   uint culled;           // 1: outside the view frustum, nothing generated
   uint vertexCount;      // vertices this segment emits
-  uint pad0;
+  float coreHalfWidthEnd;  // the same at t = 1; linear in between
   uint pad1;
 };
 FT_ASSERT_OFFSET(SegmentDecision, regularCount, 8)
 FT_ASSERT_OFFSET(SegmentDecision, vertexCount, 20)
+FT_ASSERT_OFFSET(SegmentDecision, coreHalfWidthEnd, 24)
 FT_ASSERT_SIZE(SegmentDecision, 32)
 
 // glDrawElementsIndirect command, filled by the compute path.

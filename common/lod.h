@@ -39,11 +39,25 @@ FT_FUNC bool ftSegmentOutsideFrustum(ViewParams v, YarnSegment seg, float margin
   return false;
 }
 
-// Pixel widths of a fiber and of a ply placed at the segment midpoint.
-FT_FUNC vec2 ftScreenWidths(YarnParams p, ViewParams v, YarnSegment seg) {
-  vec4 clip = v.viewProj * vec4(ftBezierPoint(seg, 0.5f), 1.0f);
+// Pixel widths of a fiber and of a ply placed at `point`.
+FT_FUNC vec2 ftScreenWidthsAt(YarnParams p, ViewParams v, vec3 point) {
+  vec4 clip = v.viewProj * vec4(point, 1.0f);
   float pixelsPerUnit = v.cameraPos.w / max(clip.w, 1e-6f);
   return vec2(2.0f * p.fiberRadius * pixelsPerUnit, 2.0f * p.ellipseB * p.rhoMax * pixelsPerUnit);
+}
+
+// ... at the segment midpoint: the widths that decide the segment's λ.
+FT_FUNC vec2 ftScreenWidths(YarnParams p, ViewParams v, YarnSegment seg) {
+  return ftScreenWidthsAt(p, v, ftBezierPoint(seg, 0.5f));
+}
+
+// Core half-width at a knot: λ² moves it from the core's own radius towards
+// the whole ply (§3.3). Taken at the knot rather than per segment, so the
+// two segments meeting there agree and the core strip has no step.
+FT_FUNC float ftCoreHalfWidthAt(YarnParams p, ViewParams v, vec3 knot) {
+  vec2 w = ftScreenWidthsAt(p, v, knot);
+  float lambda = v.lodEnabled != 0u ? ftLodLambda(w.x, w.y, v.lodThresholdPx) : 1.0f;
+  return p.ellipseB * mix(p.rhoMax, p.coreRadius, lambda * lambda);
 }
 
 FT_FUNC uint ftVertexCount(YarnParams p, SegmentDecision d) {
@@ -51,22 +65,77 @@ FT_FUNC uint ftVertexCount(YarnParams p, SegmentDecision d) {
   return p.plyCount * (1u + d.regularCount) * (d.subdivisions + 1u);
 }
 
-// λ² scales the regular-fiber count, the subdivisions along the segment and
-// the core thickness (between the core's own and the whole ply's), §3.3.
+// Pixels per world unit at the segment: the largest over its Bézier points
+// (the nearest one decides what a person sees).
+FT_FUNC float ftSegmentPixelsPerUnit(ViewParams v, YarnSegment seg) {
+  float w = min(min((v.viewProj * vec4(vec3(seg.b0), 1.0f)).w, (v.viewProj * vec4(vec3(seg.b1), 1.0f)).w),
+                min((v.viewProj * vec4(vec3(seg.b2), 1.0f)).w, (v.viewProj * vec4(vec3(seg.b3), 1.0f)).w));
+  return v.cameraPos.w / max(w, 1e-6f);
+}
+
+// Angle between two control-polygon legs; 0 where a leg has no length.
+FT_FUNC float ftLegAngle(vec3 a, vec3 b) {
+  float len2 = dot(a, a) * dot(b, b);
+  if (!(len2 > 0.0f)) return 0.0f;
+  return acos(clamp(dot(a, b) / sqrt(len2), -1.0f, 1.0f));
+}
+
+// Line segments a fiber needs along this yarn segment so that its polyline
+// stays within v.chordErrorPx of the curve on screen, before rounding up.
+//
+// A polyline through n uniform samples of x(t), t ∈ [0, 1], deviates from
+// the curve by at most max|x''| / (8 n²) (the chord sagitta). A fiber point
+// is the yarn centre plus the ply offset (radius R_ply) plus the fiber offset
+// (radius ≤ R_fib = max(e_N, e_B)·ρ_max), each turning with the frame:
+//   |x''| ≤ |c''| + R_ply (ω_ply + Θ)² + R_fib (ω_ply + ω_fib + Θ)² + A_mig ω_mig²,
+// with ω the twist and migration angles per unit t (2π · rate · Δs, §3.1,
+// eq. 1–2), Θ the turning of the yarn's frame, bounded by the turning of the
+// Bézier control polygon (a Bézier curve turns no more than its polygon),
+// and |c''| ≤ 6 max|b_i − 2 b_{i+1} + b_{i+2}|. The bound is evaluated at the
+// nearest control point's depth. It depends on what the segment covers on
+// screen only — not on λ of eq. 4, which decides how many fibers are drawn.
+// Twist rates are the preset's; closed curves round them by < ½ turn per
+// loop (fiber_geometry.h), which changes the bound by a fraction of a percent.
+FT_FUNC float ftSubdivisionEstimate(YarnParams p, ViewParams v, YarnSegment seg) {
+  vec3 b0 = vec3(seg.b0);
+  vec3 b1 = vec3(seg.b1);
+  vec3 b2 = vec3(seg.b2);
+  vec3 b3 = vec3(seg.b3);
+  float centre = 6.0f * max(length(b0 - 2.0f * b1 + b2), length(b1 - 2.0f * b2 + b3));
+  float turning = ftLegAngle(b1 - b0, b2 - b1) + ftLegAngle(b2 - b1, b3 - b2);
+  float ds = abs(seg.s1 - seg.s0);
+  float wPly = FT_TWO_PI * p.plyTurnsPerLength * ds;
+  float wFib = FT_TWO_PI * p.fiberTurnsPerLength * ds;
+  float wMig = wFib * p.migrationS;
+  float rFib = max(p.ellipseN, p.ellipseB) * p.rhoMax;
+  float aMig = 0.5f * (p.rhoMax - p.rhoMin) * rFib;
+  FT_PRECISE float accel = centre + p.plyRadius * (wPly + turning) * (wPly + turning) +
+                rFib * (wPly + wFib + turning) * (wPly + wFib + turning) + aMig * wMig * wMig;
+  FT_PRECISE float n = sqrt(accel * ftSegmentPixelsPerUnit(v, seg) / (8.0f * v.chordErrorPx));
+  return n;
+}
+
+// λ² scales the regular-fiber count and the core thickness (between the
+// core's own and the whole ply's, ftCoreHalfWidthAt), §3.3; the subdivisions
+// follow the screen (ftSubdivisionEstimate).
 FT_FUNC SegmentDecision ftDecideSegment(YarnParams p, ViewParams v, YarnSegment seg) {
   SegmentDecision d;
   vec2 widths = ftScreenWidths(p, v, seg);
   d.lambda = v.lodEnabled != 0u ? ftLodLambda(widths.x, widths.y, v.lodThresholdPx) : 1.0f;
   FT_PRECISE float scale = d.lambda * d.lambda;
   FT_PRECISE float fibers = ceil(scale * float(p.regularFibers));
-  FT_PRECISE float subdiv = ceil(scale * float(p.maxSubdivisions));
+#ifdef FT_FAULT_SUBDIVISIONS_LAMBDA
+  FT_PRECISE float subdiv = ceil(scale * ftSubdivisionEstimate(p, v, seg));
+#else
+  FT_PRECISE float subdiv = ceil(ftSubdivisionEstimate(p, v, seg));
+#endif
   d.regularCount = min(p.regularFibers, uint(fibers));
-  d.subdivisions = clamp(uint(subdiv), 1u, p.maxSubdivisions);
-  d.coreHalfWidth = p.ellipseB * mix(p.rhoMax, p.coreRadius, scale);
+  d.subdivisions = uint(clamp(subdiv, 1.0f, float(p.maxSubdivisions)));
+  d.coreHalfWidth = ftCoreHalfWidthAt(p, v, vec3(seg.b0));
+  d.coreHalfWidthEnd = ftCoreHalfWidthAt(p, v, vec3(seg.b3));
   d.culled = (v.cullEnabled != 0u && ftSegmentOutsideFrustum(v, seg, p.boundRadius)) ? 1u : 0u;
   d.vertexCount = 0u;
   d.vertexCount = ftVertexCount(p, d);
-  d.pad0 = 0u;
   d.pad1 = 0u;
   return d;
 }

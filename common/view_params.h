@@ -13,12 +13,13 @@ struct ViewParams {
   float lodThresholdPx;     // ω^LoD in pixels
   uint lodEnabled;          // 0: λ = 1 everywhere
   uint cullEnabled;         // 0: no frustum culling
-  uint pad0;
+  float chordErrorPx;       // target chord error of the fiber polylines, pixels (lod.h: subdivisions)
 };
 FT_ASSERT_OFFSET(ViewParams, frustumPlanes, 64)
 FT_ASSERT_OFFSET(ViewParams, cameraPos, 160)
 FT_ASSERT_OFFSET(ViewParams, lodThresholdPx, 176)
 FT_ASSERT_OFFSET(ViewParams, cullEnabled, 184)
+FT_ASSERT_OFFSET(ViewParams, chordErrorPx, 188)
 FT_ASSERT_SIZE(ViewParams, 192)
 
 FT_NAMESPACE_END

@@ -72,7 +72,9 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
   std::vector<std::string> tessDraw = tess;
   tessDraw.push_back("shaders/fiber_strip.geom.glsl");
   tessDraw.push_back("shaders/fiber_strip.frag.glsl");
-  tessDrawProgram_ = buildProgram(tessDraw, defines_);
+  std::vector<std::string> drawDefines = defines_;
+  drawDefines.push_back("FT_STRIP_TANGENTS");  // the evaluation stage also gives the strip tangent
+  tessDrawProgram_ = buildProgram(tessDraw, drawDefines);
   stripDrawProgram_ = buildProgram(
       {"shaders/fiber_strip.vert.glsl", "shaders/fiber_strip.geom.glsl", "shaders/fiber_strip.frag.glsl"}, defines_);
   glCreateVertexArrays(1, &vao_);
@@ -379,7 +381,9 @@ RgbaImage FiberGpu::renderWith(int width, int height, const RenderStyle& style, 
 
 RgbaImage FiberGpu::renderCompute(int width, int height, const RenderStyle& style) {
   generateCompute();
+  const uint32_t vertexTotal = readDrawCommand().vertexTotal;
   return renderWith(width, height, style, stripDrawProgram_, [&] {
+    setUint(stripDrawProgram_, "vertexTotal", vertexTotal);
     glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_);
@@ -419,6 +423,7 @@ RgbaImage FiberGpu::renderVertices(std::span<const FiberVertex> vertices, std::s
   GLuint vbo = makeBuffer(vertices.size_bytes(), vertices.data());
   GLuint ibo = makeBuffer(indices.size() * sizeof(uint32_t), indices.data());
   RgbaImage img = renderWith(width, height, style, stripDrawProgram_, [&] {
+    setUint(stripDrawProgram_, "vertexTotal", static_cast<uint32_t>(vertices.size()));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vbo);
     glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);

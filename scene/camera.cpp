@@ -1,7 +1,9 @@
 #include "scene/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -18,7 +20,8 @@ float Camera::pixelsPerUnitAtDepth1() const {
   return static_cast<float>(height) / (2.0f * std::tan(glm::radians(fovyDegrees) * 0.5f));
 }
 
-ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled) {
+ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled,
+                          float chordErrorPx) {
   ViewParams v{};
   v.viewProj = camera.projection() * camera.view();
   // Gribb–Hartmann plane extraction: rows of viewProj combined; normalized so
@@ -30,6 +33,7 @@ ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEn
   v.lodThresholdPx = lodThresholdPx;
   v.lodEnabled = lodEnabled ? 1u : 0u;
   v.cullEnabled = cullEnabled ? 1u : 0u;
+  v.chordErrorPx = chordErrorPx;
   return v;
 }
 
@@ -58,8 +62,8 @@ const char* lodDistanceName(LodDistance d) {
   return "?";
 }
 
-Camera lodCamera(const YarnModel& model, const YarnParams& params, LodDistance distance, float lodThresholdPx,
-                 int width, int height) {
+namespace {
+glm::vec3 controlPointNearCentre(const YarnModel& model) {
   const Bounds b = modelBounds(model);
   const glm::vec3 center = 0.5f * (b.lo + b.hi);
   glm::vec3 target = center;
@@ -67,6 +71,35 @@ Camera lodCamera(const YarnModel& model, const YarnParams& params, LodDistance d
   for (const YarnCurve& c : model.curves)
     for (const glm::vec3& p : c.points)
       if (float d = glm::distance(p, center); d < best) best = d, target = p;
+  return target;
+}
+}  // namespace
+
+Camera closeupCamera(const YarnModel& model, int width, int height, float segmentPixels) {
+  std::vector<float> spacing;
+  for (const YarnCurve& c : model.curves)
+    for (size_t i = 0; i + 1 < c.points.size(); ++i) spacing.push_back(glm::distance(c.points[i], c.points[i + 1]));
+  float median = 1.0f;
+  if (!spacing.empty()) {
+    std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
+    median = spacing[spacing.size() / 2];
+  }
+  Camera c;
+  c.width = width;
+  c.height = height;
+  const float d = median * c.pixelsPerUnitAtDepth1() / segmentPixels;
+  const Bounds b = modelBounds(model);
+  c.target = controlPointNearCentre(model);
+  c.eye = c.target + glm::normalize(glm::vec3(0.3f, 0.5f, 1.0f)) * d;
+  c.zNear = d * 0.01f;
+  c.zFar = d + glm::length(b.hi - b.lo) + 1.0f;
+  return c;
+}
+
+Camera lodCamera(const YarnModel& model, const YarnParams& params, LodDistance distance, float lodThresholdPx,
+                 int width, int height) {
+  const Bounds b = modelBounds(model);
+  const glm::vec3 target = controlPointNearCentre(model);
 
   Camera c;
   c.width = width;

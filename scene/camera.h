@@ -24,7 +24,13 @@ struct Camera {
   float pixelsPerUnitAtDepth1() const;  // H / (2 tan(fovy/2))
 };
 
-ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled);
+// Default target chord error of fiber polylines on screen (common/lod.h):
+// a quarter pixel keeps the drawn curve within the pixel that the exact
+// curve covers, so no kink shows at any distance.
+inline constexpr float kDefaultChordErrorPx = 0.25f;
+
+ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled,
+                          float chordErrorPx = kDefaultChordErrorPx);
 
 // Camera that frames the whole model from direction `viewDir` (from the target).
 Camera frameModel(const YarnModel& model, glm::vec3 viewDir, int width, int height);
@@ -35,6 +41,12 @@ Camera frameModel(const YarnModel& model, glm::vec3 viewDir, int width, int heig
 //  mid:  ω^LoD is the geometric mean of ω^fiber and ω^ply (0 < λ < 1),
 //  far:  ω^ply = 0.5 ω^LoD   (λ = 0, core fibers only).
 enum class LodDistance { Near, Mid, Far };
+
+// Close-up: the camera looks at the control point nearest the model centre
+// from the distance at which a typical yarn segment (the median distance of
+// consecutive control points) spans `segmentPixels` on screen — near enough
+// that a segment drawn as one straight line would show as a kink.
+Camera closeupCamera(const YarnModel& model, int width, int height, float segmentPixels = 60.0f);
 const char* lodDistanceName(LodDistance d);
 Camera lodCamera(const YarnModel& model, const YarnParams& params, LodDistance distance, float lodThresholdPx,
                  int width, int height);

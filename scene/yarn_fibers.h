@@ -13,9 +13,10 @@ namespace ft {
 
 struct FiberOptions {
   uint32_t regularFibersPerPly = 20;  // outermost fibers drawn individually; the rest form the core (§3.2)
-  uint32_t maxSubdivisions = 4;       // line segments per fiber per yarn segment at full detail
-  float fiberRadius = 0.0008f;        // drawn fiber half-width, world units (8 µm if units are cm)
+  uint32_t maxSubdivisions = 32;      // cap on line segments per fiber per yarn segment (the screen decides, lod.h)
+  float fiberRadius = 0.0008f;        // drawn fiber half-width at the preset's own scale (8 µm if units are cm)
   uint32_t seed = 1;
+  float yarnRadius = 0.0f;            // yarn radius to fit the preset to; 0: estimated from the model (yarn_radius.h)
 };
 
 // Rejection-samples `preset.fiberNum` fiber positions in the unit ply disk with

@@ -35,7 +35,7 @@ namespace {
   X(loopR1Sigma) X(hairZeMu) X(hairZeSigma) X(hairR0Mu) X(hairR0Sigma) X(hairReMu) X(hairReSigma) \
   X(hairPeMu) X(hairPeSigma) X(boundRadius) X(seed) X(pad0) X(pad1)
 #define FT_VIEW_PARAMS_MEMBERS(X) \
-  X(viewProj) X(frustumPlanes) X(cameraPos) X(lodThresholdPx) X(lodEnabled) X(cullEnabled) X(pad0)
+  X(viewProj) X(frustumPlanes) X(cameraPos) X(lodThresholdPx) X(lodEnabled) X(cullEnabled) X(chordErrorPx)
 #define FT_CONTROL_POINT_MEMBERS(X) X(positionLength)
 #define FT_CURVE_INFO_MEMBERS(X) \
   X(firstPoint) X(pointCount) X(closed) X(firstSegment) X(totalLength) X(basis) X(frameBase) X(pad0)
@@ -44,7 +44,7 @@ namespace {
 #define FT_FIBER_COORD_MEMBERS(X) X(radius) X(thetaTurns)
 #define FT_FIBER_VERTEX_MEMBERS(X) X(position) X(id)
 #define FT_SEGMENT_DECISION_MEMBERS(X) \
-  X(lambda) X(coreHalfWidth) X(regularCount) X(subdivisions) X(culled) X(vertexCount) X(pad0) \
+  X(lambda) X(coreHalfWidth) X(regularCount) X(subdivisions) X(culled) X(vertexCount) X(coreHalfWidthEnd) \
   X(pad1)
 #define FT_DRAW_ELEMENTS_COMMAND_MEMBERS(X) \
   X(count) X(instanceCount) X(firstIndex) X(baseVertex) X(baseInstance) X(vertexTotal) X(stripTotal) \

@@ -48,6 +48,12 @@ inline constexpr Fault kFaults[] = {
     {"knit-no-safeguard", "FT_FAULT_KNIT_NO_SAFEGUARD",
      "Gauss-Newton steps taken even when they raise eq. 3 (common/knit_solver.h)", "gpu.energy_rises", "knit",
      "^knit/"},
+    {"subdivisions-lambda", "FT_FAULT_SUBDIVISIONS_LAMBDA",
+     "λ² of eq. 4 scales the subdivisions again: fibers under a pixel are drawn with kinks (common/lod.h)",
+     "chord.max_px", kFiberPaths, "^closeup/"},
+    {"strip-half-width", "FT_FAULT_STRIP_HALF_WIDTH",
+     "camera-facing strips drawn at half the fiber's width (gpu/shaders/fiber_strip.geom.glsl)", "width.error_px",
+     kFiberPaths, "^strip-width/"},
 };
 
 inline const Fault* findFault(std::string_view name) {

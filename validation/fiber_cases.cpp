@@ -56,8 +56,9 @@ const PresetSetup& presetSetup(ValidationContext& ctx, const YarnPreset& preset)
   auto& slot = ctx.cache()["preset/" + preset.name];
   if (!slot) {
     auto s = std::make_shared<PresetSetup>();
-    s->table = makeFiberTable(preset, ctx.options().fiber.seed);
-    s->params = makeYarnParams(preset, s->table, ctx.options().fiber);
+    FittedFibers f = fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
+    s->table = std::move(f.table);
+    s->params = f.params;
     slot = s;
   }
   return *static_cast<PresetSetup*>(slot.get());
@@ -100,8 +101,10 @@ bool decisionAmbiguous(const YarnParams& p, const ViewParams& v, const YarnSegme
   // λ = 0 and λ = 1 come from the branches of eq. 4 (checked below), not from rounding.
   const double scale = static_cast<double>(d.lambda) * d.lambda;
   if (d.lambda > 0.0f && d.lambda < 1.0f &&
-      (nearInteger(scale * p.regularFibers) || nearInteger(scale * p.maxSubdivisions)))
+      nearInteger(scale * p.regularFibers))
     return true;
+  const double subdiv = ftSubdivisionEstimate(p, v, seg);
+  if (subdiv < p.maxSubdivisions && nearInteger(subdiv)) return true;
   const glm::vec2 w = ftScreenWidths(p, v, seg);
   auto near = [&](double a, double b) { return std::abs(a - b) <= band * std::max(std::abs(a), std::abs(b)); };
   if (near(v.lodThresholdPx, w.x) || near(v.lodThresholdPx, w.y)) return true;

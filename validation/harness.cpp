@@ -23,6 +23,13 @@ ValidationContext::ValidationContext(HarnessOptions options) : options_(std::mov
   buffers_ = buildYarnBuffers(model_);
   // Bad names and options fail here, before any GL work.
   for (const YarnPreset* preset : presets()) checkFiberOptions(*preset, options_.fiber);
+  if (options_.fiber.yarnRadius != 0.0f) {
+    yarnRadius_ = fitYarnPreset(*presets().front(), model_, options_.fiber.yarnRadius).radius;  // checks the value
+    yarnRadiusSource_ = "--yarn-radius";
+  } else {
+    yarnRadius_ = estimateYarnRadius(model_).radius;
+    yarnRadiusSource_ = "estimated from the model";
+  }
   std::vector<std::string>& defines = defines_;
   if (!options_.inject.empty()) {
     const Fault* f = findFault(options_.inject);
@@ -71,13 +78,15 @@ RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
   ValidationContext ctx(options);
   std::vector<ValidationCase> cases;
   addFiberCases(ctx, cases);  // one line per algorithm
+  addCloseupCases(ctx, cases);
   addKnitCases(ctx, cases);
 
   const std::regex filter(options.filter.empty() ? std::string(".*") : options.filter);
   RunSummary summary;
   const GlInfo& gl = ctx.gl();
-  log << fmt::format("fibertwin validate: {} on {} ({}, {}), model {}{}\n", gl.version, gl.renderer, gl.vendor,
-                     gl.backend, ctx.modelLabel(), options.inject.empty() ? "" : ", injected fault " + options.inject);
+  log << fmt::format("fibertwin validate: {} on {} ({}, {}), model {}, yarn radius {:.4g} ({}){}\n", gl.version,
+                     gl.renderer, gl.vendor, gl.backend, ctx.modelLabel(), ctx.yarnRadius(), ctx.yarnRadiusSource(),
+                     options.inject.empty() ? "" : ", injected fault " + options.inject);
   for (ValidationCase& c : cases) {
     if (!std::regex_search(c.name, filter)) continue;
     CaseResult r;

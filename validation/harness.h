@@ -18,6 +18,7 @@
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"
 #include "scene/yarn_preset.h"
+#include "scene/yarn_radius.h"
 #include "validation/metrics.h"
 
 namespace ft {
@@ -57,6 +58,10 @@ class ValidationContext {
   const YarnModel& model() const { return model_; }
   const YarnBuffers& buffers() const { return buffers_; }
   std::string modelLabel() const;
+  // The yarn radius every preset is fitted to (--yarn-radius, else estimated
+  // from the model once), and where it came from.
+  double yarnRadius() const { return yarnRadius_; }
+  const std::string& yarnRadiusSource() const { return yarnRadiusSource_; }
   std::vector<const YarnPreset*> presets() const;
   // Writes an image into the report folder, returns its relative name.
   std::string saveImage(const RgbaImage& image, const std::string& stem);
@@ -71,11 +76,14 @@ class ValidationContext {
   std::unique_ptr<KnitGpu> knitGpu_;
   YarnModel model_;
   YarnBuffers buffers_;
+  double yarnRadius_ = 0.0;
+  std::string yarnRadiusSource_;
   std::map<std::string, std::shared_ptr<void>> cache_;
 };
 
 // Case factories, one per algorithm.
 void addFiberCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+void addCloseupCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addKnitCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 
 struct RunSummary {

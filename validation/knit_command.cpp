@@ -13,6 +13,7 @@
 #include "scene/camera.h"
 #include "scene/input_error.h"
 #include "scene/yarn_preset.h"
+#include "scene/yarn_radius.h"
 #include "validation/report.h"
 
 namespace ft {
@@ -93,8 +94,11 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   YarnParams params{};
   YarnBuffers restBuffers;
   if (!o.image.empty()) {
-    table = makeFiberTable(preset, o.fiber.seed);
-    params = makeYarnParams(preset, table, o.fiber);
+    FittedFibers fitted = fitFibers(preset, o.knit.yarnRadius, "the knot yarn radius", o.fiber);
+    table = std::move(fitted.table);
+    params = fitted.params;
+    log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fitted.fit.scale,
+                       fitted.fit.radius, fitted.fit.source);
     fiberGpu = std::make_unique<FiberGpu>(context->info());
     // Fibers follow the yarn material: every frame keeps the rest state's
     // length coordinates, so twist and flyaways stretch with the yarn instead

@@ -15,6 +15,7 @@
 #include "scene/default_scene.h"
 #include "scene/input_error.h"
 #include "scene/yarn_fibers.h"
+#include "scene/yarn_radius.h"
 #include "validation/faults.h"
 #include "validation/harness.h"
 #include "validation/knit_command.h"
@@ -22,12 +23,18 @@
 
 namespace {
 
-void addFiberOptions(CLI::App* app, ft::FiberOptions& f) {
+void addFiberOptions(CLI::App* app, ft::FiberOptions& f, bool yarnRadius = true) {
   app->add_option("--fibers-per-ply", f.regularFibersPerPly, "regular fibers drawn per ply (the rest form the core)")
       ->capture_default_str();
-  app->add_option("--subdivisions", f.maxSubdivisions, "line segments per fiber per yarn segment (1-64)")
+  app->add_option("--subdivisions", f.maxSubdivisions, "cap on the line segments per fiber per yarn segment; the count follows the screen (1-64)")
       ->capture_default_str();
-  app->add_option("--fiber-radius", f.fiberRadius, "drawn fiber half-width, world units")->capture_default_str();
+  app->add_option("--fiber-radius", f.fiberRadius,
+                  "drawn fiber half-width at the preset's own scale (scaled with the preset to the model)")
+      ->capture_default_str();
+  if (yarnRadius)
+    app->add_option("--yarn-radius", f.yarnRadius,
+                    "yarn radius the preset is scaled to, model units (default: estimated from the spacing of "
+                    "neighbouring yarns)");
   app->add_option("--seed", f.seed, "seed of the fiber table and fiber types")->capture_default_str();
 }
 
@@ -81,7 +88,7 @@ int main(int argc, char** argv) {
   render->add_option("--path", pathName, "compute or tessellation")->capture_default_str();
   render->add_option("--light", light, "direction towards the light, x,y,z")->capture_default_str();
   render->add_option("--view", view, "direction from the model towards the camera, x,y,z")->capture_default_str();
-  render->add_option("--distance", distance, "frame (whole model), near, mid or far (LoD distances)")
+  render->add_option("--distance", distance, "frame (whole model), closeup (a yarn segment spans ~60 px), near, mid or far (LoD distances)")
       ->capture_default_str();
   render->add_option("--backend", backend, "GL backend");
   addFiberOptions(render, ro);
@@ -120,7 +127,7 @@ int main(int argc, char** argv) {
   knit->add_option("--height", ko.height)->capture_default_str()->check(CLI::Range(16, 8192));
   knit->add_option("--yarn", ko.yarn, "yarn preset for the fibers")->capture_default_str();
   knit->add_option("--backend", backend, "GL backend");
-  addFiberOptions(knit, ko.fiber);
+  addFiberOptions(knit, ko.fiber, false);  // the fibers take the knot yarn radius
 
   auto* info = app.add_subcommand("info", "print the GL renderer and its limits");
   info->add_option("--backend", backend, "GL backend");
@@ -160,14 +167,18 @@ int main(int argc, char** argv) {
       const ft::YarnModel model = modelPath.empty() ? ft::makeDefaultScene() : ft::readBcc(modelPath);
       const ft::YarnBuffers buffers = ft::buildYarnBuffers(model);
       const ft::YarnPreset& preset = ft::findYarnPreset(yarn.empty() ? "cotton1" : yarn);
-      const auto table = ft::makeFiberTable(preset, ro.seed);
-      const ft::YarnParams params = ft::makeYarnParams(preset, table, ro);
+      const ft::FittedFibers fitted = ft::fitFibers(preset, model, ro);
+      const auto& table = fitted.table;
+      const ft::YarnParams& params = fitted.params;
+      std::cout << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fitted.fit.scale,
+                               fitted.fit.radius, fitted.fit.source);
       ft::Camera cam;
       if (distance == "frame") cam = ft::frameModel(model, parseVec3(view, "--view"), width, height);
       else if (distance == "near") cam = ft::lodCamera(model, params, ft::LodDistance::Near, 1.0f, width, height);
       else if (distance == "mid") cam = ft::lodCamera(model, params, ft::LodDistance::Mid, 1.0f, width, height);
       else if (distance == "far") cam = ft::lodCamera(model, params, ft::LodDistance::Far, 1.0f, width, height);
-      else throw ft::InputError(fmt::format("--distance: '{}' is not frame, near, mid or far", distance));
+      else if (distance == "closeup") cam = ft::closeupCamera(model, width, height);
+      else throw ft::InputError(fmt::format("--distance: '{}' is not frame, closeup, near, mid or far", distance));
       ft::RenderStyle style;
       style.lightDir = glm::normalize(parseVec3(light, "--light"));
       auto ctx = ft::GlContext::create(parseBackend(backend));

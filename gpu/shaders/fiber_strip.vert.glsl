@@ -1,18 +1,34 @@
 // Compute path drawing: vertex pulling from the generated vertex buffer
 // (glDrawElementsIndirect with line strips; gl_VertexID is the index value).
+// A fiber's vertices are consecutive in the buffer (common/fiber_generation.h),
+// so the neighbours that give the strip its tangent are at gl_VertexID ± 1, 2.
 #include "common/constants.h"
 #include "common/fiber_vertex.h"
 #include "common/view_params.h"
+#include "shaders/fiber_strip_tangent.glsl"
 
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
 layout(std430, binding = FT_SSBO_VERTICES) readonly buffer VertexBuffer { FiberVertex vertices[]; };
+uniform uint vertexTotal;  // vertices written; the buffer may be longer
 
 layout(location = 0) out vec4 fiberPosition;
 layout(location = 1) flat out uvec4 fiberId;
+layout(location = 2) out vec3 fiberTangent;
+layout(location = 3) out float fiberStripEnd;  // 1 at the first or last vertex of a strip
 
 void main() {
-  FiberVertex v = vertices[gl_VertexID];
+  int i = gl_VertexID;
+  FiberVertex v = vertices[i];
+  vec3 p[5];
+  bool has[5];
+  for (int k = -2; k <= 2; ++k) {
+    int j = i + k;
+    has[k + 2] = k != 0 && j >= 0 && uint(j) < vertexTotal && ftStripNeighbour(v.id, vertices[j].id, k);
+    p[k + 2] = has[k + 2] ? vertices[j].position.xyz : v.position.xyz;
+  }
   fiberPosition = v.position;
   fiberId = v.id;
+  fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
+  fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
   gl_Position = view.viewProj * vec4(v.position.xyz, 1.0);
 }

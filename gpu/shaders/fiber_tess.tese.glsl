@@ -1,6 +1,9 @@
 // Tessellation path, evaluation stage: one isoline per fiber, one vertex per
 // subdivision point; the same ftFiberVertex() as the CPU and compute paths.
 #include "shaders/fiber_resources.glsl"
+#ifdef FT_STRIP_TANGENTS
+#include "shaders/fiber_strip_tangent.glsl"
+#endif
 
 layout(isolines, equal_spacing) in;
 
@@ -14,6 +17,12 @@ layout(location = 9) patch in uvec4 pDecisionU;
 // Captured by transform feedback for the harness; also feeds the strip GS.
 layout(location = 0) out vec4 fiberPosition;     // xyz, w = half-width
 layout(location = 1) flat out uvec4 fiberId;
+#ifdef FT_STRIP_TANGENTS
+// Drawing only (the capture program has no strips): the neighbours at
+// vertex ± 1, 2 of the same fiber, evaluated here, give the strip tangent.
+layout(location = 2) out vec3 fiberTangent;
+layout(location = 3) out float fiberStripEnd;
+#endif
 
 void main() {
   YarnSegment seg;
@@ -23,11 +32,11 @@ void main() {
   SegmentDecision d;
   d.lambda = pDecision.x;
   d.coreHalfWidth = pDecision.y;
+  d.coreHalfWidthEnd = pDecision.z;
   d.regularCount = pDecisionU.x;
   d.subdivisions = pDecisionU.y;
   d.culled = pDecisionU.z;
   d.vertexCount = pDecisionU.w;
-  d.pad0 = 0u;
   d.pad1 = 0u;
 
   // Line k of n sits at y = k/n; vertex j of S at x = j/S. Round, then
@@ -42,5 +51,22 @@ void main() {
   FiberVertex fv = ftFiberVertex(yarn, rates, seg, d, curve, pIds.y, ply, slot, slotFiberCoord(slot), vertex);
   fiberPosition = fv.position;
   fiberId = fv.id;
+#ifdef FT_STRIP_TANGENTS
+  vec3 p[5];
+  bool has[5];
+  for (int k = -2; k <= 2; ++k) {
+    int j = int(vertex) + k;
+    has[k + 2] = false;
+    p[k + 2] = fv.position.xyz;
+    // ±2 only where the other side is missing (ftStripTangent reads it then).
+    bool needed = k == -1 || k == 1 || (k == -2 && vertex + 1u > d.subdivisions) || (k == 2 && vertex == 0u);
+    if (k == 0 || !needed || j < 0 || j > int(d.subdivisions)) continue;
+    FiberVertex nv = ftFiberVertex(yarn, rates, seg, d, curve, pIds.y, ply, slot, slotFiberCoord(slot), uint(j));
+    has[k + 2] = ftStripNeighbour(fv.id, nv.id, k);
+    p[k + 2] = nv.position.xyz;
+  }
+  fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
+  fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
+#endif
   gl_Position = view.viewProj * vec4(fv.position.xyz, 1.0);
 }
