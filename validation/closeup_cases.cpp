@@ -165,7 +165,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   }
 
   double chordHairMax = 0.0, chordMax = 0.0, kinkMax = 0.0, kinkKnotMax = 0.0, turnMax = 0.0, turnKnotMax = 0.0;
-  uint64_t chords = 0, joints = 0, knotJoints = 0, subdivSum = 0, stripCount = 0;
+  uint64_t chords = 0, joints = 0, knotJoints = 0, subdivSum = 0, stripCount = 0, cappedStrips = 0;
   double lambdaSum = 0.0;
   uint32_t subdivMax = 0;
   std::string worst;
@@ -194,6 +194,12 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
     subdivSum += d.subdivisions;
     subdivMax = std::max(subdivMax, d.subdivisions);
     ++stripCount;
+    // A segment at the --subdivisions cap (one that passes right by the
+    // camera) cannot meet the chord target: counted, not measured.
+    if (d.subdivisions >= p.maxSubdivisions) {
+      ++cappedStrips;
+      continue;
+    }
     const YarnSegment seg = loadSegmentCpu(y, frames, sgm);
     const uint32_t curve = y.segments[sgm].curve;
     const TwistRates rates = ftTwistRates(p, y.curves[curve]);
@@ -256,7 +262,8 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
     if (local + 1u < count || ci.closed) {
       const uint32_t next = ci.firstSegment + (local + 1u) % count;
       const auto nit = strips.find({next, st.plyFiber});
-      if (nit != strips.end() && nit->second.vertices.size() >= 2 && d.subdivisions >= 1) {
+      if (nit != strips.end() && nit->second.vertices.size() >= 2 &&
+          nit->second.vertices.size() <= p.maxSubdivisions) {
         const FiberVertex &a = st.vertices.at(d.subdivisions - 1), &b = st.vertices.at(d.subdivisions);
         const FiberVertex &c = nit->second.vertices.at(1);
         const ProjectedPoint pc = project(view, width, height, glm::vec3(c.position));
@@ -273,8 +280,10 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
           if (k > kinkMax) {
             kinkMax = k;
             if (k > kKinkTolerancePx)
-              worst += fmt::format("kink at knot: segment {} → {} ply {} fiber {}: {:.3f} px, {:.1f}°\n", sgm, next,
-                                   ply, fiber, k, turn);
+              worst += fmt::format("kink at knot: segment {} → {} ply {} fiber {} types {} {} {}: {:.3f} px, {:.1f}°, "
+                                   "subdivisions {} / {}\n",
+                                   sgm, next, ply, fiber, a.id.w & 0xFFu, b.id.w & 0xFFu, c.id.w & 0xFFu, k, turn,
+                                   d.subdivisions, nit->second.vertices.size() - 1);
           }
         }
       }
@@ -304,6 +313,8 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       Metric{"subdivisions.max", double(subdivMax), 0.0, "count", "", false},
       Metric{"lambda.mean", lambdaSum / double(decisions.size()), 0.0, "λ",
              "eq. 4 at ω^LoD = twice the fiber's width at the target: fewer fibers, equally smooth", false},
+      Metric{"strips.capped", double(cappedStrips), 0.0, "count",
+             "strips at the --subdivisions cap (segments passing by the camera): not measured", false},
       Metric{"segments.listed", double(list.size()), 0.0, "count", "segments the camera sees (up to the budget)",
              false},
   };
