@@ -44,12 +44,28 @@ Camera frameModel(const YarnModel& model, glm::vec3 viewDir, int width, int heig
   Camera c;
   c.width = width;
   c.height = height;
-  const float distance = radius / std::sin(glm::radians(c.fovyDegrees) * 0.5f);
   c.target = center;
-  c.eye = center + glm::normalize(viewDir) * distance;
-  if (std::abs(glm::dot(glm::normalize(viewDir), c.up)) > 0.99f) c.up = glm::vec3(0.0f, 0.0f, 1.0f);
-  c.zNear = std::max(distance - radius, distance * 1e-3f);
-  c.zFar = distance + radius;
+  const glm::vec3 back = glm::normalize(viewDir);  // from the target towards the eye
+  if (std::abs(glm::dot(back, c.up)) > 0.99f) c.up = glm::vec3(0.0f, 0.0f, 1.0f);
+  // The nearest distance at which every control point lies inside the
+  // frustum, plus 4% of margin; at most the bounding sphere's distance.
+  const glm::vec3 right = glm::normalize(glm::cross(c.up, back));
+  const glm::vec3 up = glm::cross(back, right);
+  const double tanY = std::tan(glm::radians(c.fovyDegrees) * 0.5);
+  const double tanX = tanY * width / height;
+  double distance = 0.0;
+  for (const YarnCurve& curve : model.curves)
+    for (const glm::vec3& p : curve.points) {
+      const glm::dvec3 q(p - center);
+      const double z = glm::dot(q, glm::dvec3(back));
+      distance = std::max({distance, z + std::abs(glm::dot(q, glm::dvec3(right))) / tanX,
+                           z + std::abs(glm::dot(q, glm::dvec3(up))) / tanY});
+    }
+  const float sphere = radius / std::sin(glm::radians(c.fovyDegrees) * 0.5f);
+  const float d = std::min(sphere, static_cast<float>(distance * 1.04));
+  c.eye = center + back * d;
+  c.zNear = std::max(d - radius, d * 1e-3f);
+  c.zFar = d + radius;
   return c;
 }
 

@@ -310,7 +310,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       Metric{"joints", double(joints + knotJoints), 0.0, "count", "vertices whose kink was measured", false},
       Metric{"subdivisions.mean", double(subdivSum) / double(std::max<uint64_t>(stripCount, 1)), 0.0, "count",
              "line segments per fiber per yarn segment drawn at this camera", false},
-      Metric{"subdivisions.max", double(subdivMax), 0.0, "count", "", false},
+      Metric{"subdivisions.max", double(subdivMax), 0.0, "count", "the most drawn along one yarn segment", false},
       Metric{"lambda.mean", lambdaSum / double(decisions.size()), 0.0, "λ",
              "eq. 4 at ω^LoD = twice the fiber's width at the target: fewer fibers, equally smooth", false},
       Metric{"strips.capped", double(cappedStrips), 0.0, "count",
