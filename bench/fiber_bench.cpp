@@ -236,8 +236,9 @@ int main(int argc, char** argv) {
     setup.buffers = ft::buildYarnBuffers(setup.model);
     setup.preset = &ft::findYarnPreset(setup.yarnName);
     const ft::FiberOptions options;  // defaults
-    setup.table = ft::makeFiberTable(*setup.preset, options.seed);
-    setup.params = ft::makeYarnParams(*setup.preset, setup.table, options);
+    ft::FiberSetup fibers = ft::makeFiberSetup(*setup.preset, options);
+    setup.table = std::move(fibers.table);
+    setup.params = fibers.params;
     setup.cpuFrames = ft::computeKnotFramesCpu(setup.buffers);
 
     setup.gl = ft::GlContext::create(ft::glBackendFromEnv());

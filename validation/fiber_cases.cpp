@@ -47,20 +47,10 @@ struct CpuRun {
   double milliseconds = 0.0;
 };
 
-struct PresetSetup {
-  std::vector<FiberCoord> table;
-  YarnParams params{};
-};
-
-const PresetSetup& presetSetup(ValidationContext& ctx, const YarnPreset& preset) {
+const FiberSetup& presetSetup(ValidationContext& ctx, const YarnPreset& preset) {
   auto& slot = ctx.cache()["preset/" + preset.name];
-  if (!slot) {
-    auto s = std::make_shared<PresetSetup>();
-    s->table = makeFiberTable(preset, ctx.options().fiber.seed);
-    s->params = makeYarnParams(preset, s->table, ctx.options().fiber);
-    slot = s;
-  }
-  return *static_cast<PresetSetup*>(slot.get());
+  if (!slot) slot = std::make_shared<FiberSetup>(makeFiberSetup(preset, ctx.options().fiber));
+  return *static_cast<FiberSetup*>(slot.get());
 }
 
 const std::vector<FrameNormal>& cpuFrames(ValidationContext& ctx) {
@@ -131,7 +121,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   r.group = "fiber";
   r.path = spec.tessellation ? "tessellation" : "compute";
   const HarnessOptions& o = ctx.options();
-  const PresetSetup& ps = presetSetup(ctx, *spec.preset);
+  const FiberSetup& ps = presetSetup(ctx, *spec.preset);
   const YarnParams& params = ps.params;
   const Camera camera = lodCamera(ctx.model(), params, spec.lod, o.lodThresholdPx, o.lodWidth, o.lodHeight);
   const ViewParams view = makeViewParams(camera, o.lodThresholdPx, true, true);

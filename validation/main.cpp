@@ -160,8 +160,8 @@ int main(int argc, char** argv) {
       const ft::YarnModel model = modelPath.empty() ? ft::makeDefaultScene() : ft::readBcc(modelPath);
       const ft::YarnBuffers buffers = ft::buildYarnBuffers(model);
       const ft::YarnPreset& preset = ft::findYarnPreset(yarn.empty() ? "cotton1" : yarn);
-      const auto table = ft::makeFiberTable(preset, ro.seed);
-      const ft::YarnParams params = ft::makeYarnParams(preset, table, ro);
+      const ft::FiberSetup fibers = ft::makeFiberSetup(preset, ro);
+      const ft::YarnParams& params = fibers.params;
       ft::Camera cam;
       if (distance == "frame") cam = ft::frameModel(model, parseVec3(view, "--view"), width, height);
       else if (distance == "near") cam = ft::lodCamera(model, params, ft::LodDistance::Near, 1.0f, width, height);
@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
       auto ctx = ft::GlContext::create(parseBackend(backend));
       const ft::GlInfo& g = ctx->info();
       ft::FiberGpu gpu(g);
-      gpu.setModel(buffers, table);
+      gpu.setModel(buffers, fibers.table);
       gpu.setParams(params, ft::makeViewParams(cam, 1.0f, true, true));
       const auto t0 = std::chrono::steady_clock::now();
       const ft::RgbaImage img = pathName == "compute" ? gpu.renderCompute(width, height, style)
