@@ -232,6 +232,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   const StreamComparison cmp = compareStreams(cpuKept, gpuKept, params.boundRadius);
   const double posTol = positionTolerance(params, maxCoordinate);
   r.histogram = cmp.histogram;
+  r.histogramMetric = "position.max_abs";
   r.metrics = {
       exact("vertices.count_difference", std::abs(double(cmp.gpuVertices) - double(cmp.cpuVertices)),
             "both sides generate the same vertices"),
@@ -306,6 +307,7 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
       maxUnit = std::max(maxUnit, std::abs(glm::length(b) - 1.0));
       maxOrtho = std::max(maxOrtho, std::abs(glm::dot(b, glm::dvec3(knot.tangent))));
       r.histogram.add(ang);
+      r.histogramMetric = "normal.max_angle";
     }
   }
   if (g.size() != cpu.size()) throw std::runtime_error("GPU frame count differs from the CPU's");

@@ -185,6 +185,7 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) ++nonFinite;
     const double e = glm::length(p - s.cpu.worldPoints[i]);
     r.histogram.add(e);
+    r.histogramMetric = "points.max_abs";
     if (!(e <= worst)) {
       worst = e;
       worstAt = i;
