@@ -28,9 +28,7 @@ function(ft_layer_include_root out)
   get_filename_component(layer ${CMAKE_CURRENT_SOURCE_DIR} NAME)
   set(root ${PROJECT_BINARY_DIR}/include-roots/${layer})
   file(MAKE_DIRECTORY ${root})
-  if(NOT IS_SYMLINK ${root}/${layer})
-    file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR} ${root}/${layer} SYMBOLIC)
-  endif()
+  file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR} ${root}/${layer} SYMBOLIC)  # replaces a stale link
   set(${out} ${root} PARENT_SCOPE)
 endfunction()
 
