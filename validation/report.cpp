@@ -103,6 +103,15 @@ std::string marginSvg(const Metric& m) {
   return s;
 }
 
+// The bar's number: how much of its tolerance a value uses ("0.29%"), or how
+// many times the tolerance it is ("4260×").
+std::string marginText(const Metric& m) {
+  if (m.tolerance <= 0.0) return m.value <= 0.0 ? "" : "≠ 0";
+  const double ratio = m.value / m.tolerance;
+  if (ratio <= 1.0) return fmt::format("{:.2g}%", 100.0 * ratio);
+  return ratioText(ratio) + "×";
+}
+
 // Inline SVG bar chart of a log10 error histogram, with the tolerance of the
 // metric it bins as a vertical line (bins past it drawn as failures).
 std::string histogramSvg(const ErrorHistogram& h, double tolerance) {
@@ -141,18 +150,19 @@ table.cases{width:100%;box-shadow:0 1px 2px rgba(0,0,0,.08)}
 table.cases>thead th{position:sticky;top:0;background:#e8ebf0;text-align:left;padding:6px 8px;font-weight:600}
 table.cases>tbody>tr>td{border-top:1px solid #e3e6eb;padding:6px 8px;vertical-align:top}
 tr.case.failed>td:first-child{border-left:4px solid #b3261e}tr.case.passed>td:first-child{border-left:4px solid #1f7a3a}
-td.name{font:12px ui-monospace,Menlo,Consolas,monospace;min-width:170px;max-width:240px}
+td.name{font:12px ui-monospace,Menlo,Consolas,monospace;min-width:150px;max-width:200px}
 .badge{display:inline-block;padding:1px 8px;border-radius:10px;font-size:12px;font-weight:700;color:#fff}
 .badge.pass{background:#1f7a3a}.badge.fail{background:#b3261e}
 table.metrics{background:none}table.metrics td{padding:1px 8px 1px 0;border:0;white-space:nowrap;font-size:12px}
 table.metrics td.v{font-family:ui-monospace,Menlo,Consolas,monospace;text-align:right}
+table.metrics td.ratio{font-size:11px;color:#555;text-align:right;min-width:44px}table.metrics tr.bad td.ratio{color:#b3261e}
 table.metrics tr.bad td{color:#b3261e;font-weight:600}table.metrics tr.info td{color:#777;font-style:italic}
 svg.bar .track{fill:#e9ecef}svg.bar .in{fill:#3b8f5a}svg.bar .out{fill:#c62828}svg .tol{stroke:#222;stroke-width:1.5;stroke-dasharray:3 2}
 svg.hist rect.in{fill:#4a7fc1}svg.hist rect.out{fill:#c62828}svg.hist text{font-size:9px;fill:#555}svg.hist .axis{stroke:#999}
 figure{display:inline-block;margin:0 6px 0 0}figure img{border:1px solid #c8ccd2;display:block}
 figcaption{font-size:11px;color:#555}td.num{text-align:right;font-family:ui-monospace,Menlo,Consolas,monospace;white-space:nowrap}
 ul.failures>li{margin:6px 0}ul.failures ul{margin:2px 0;padding-left:22px;list-style:circle}td.imgs{white-space:nowrap}
-tr.exact td{color:#3b6e4a;font-size:12px;white-space:normal!important;max-width:380px}tr.exact .check{font-weight:700}
+tr.exact td{color:#3b6e4a;font-size:12px;white-space:normal!important;max-width:340px}tr.exact .check{font-weight:700}
 tr.exact .names{color:#777}.caption{font-size:11px;color:#555;max-width:190px}ul.failures .why{color:#b3261e}
 .error{color:#b3261e;font-weight:600;white-space:pre-wrap}pre{margin:4px 0 0;font-size:11px;white-space:pre-wrap}
 .controls{margin:6px 0 10px;display:flex;gap:18px;align-items:center}.controls input[type=search]{width:280px;padding:3px 6px}
@@ -310,7 +320,8 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
 
   h << "<h2>Cases</h2>\n<p class='legend'>Each case compares the CPU reference with one GPU path. Each metric is "
        "drawn as its margin: the bar is value ÷ tolerance on a log scale from 1e-8 to 1e2, the dashed line is the "
-       "tolerance (bars past it fail); a dot means a value of exactly 0. Italic metrics are informational. Hover a "
+       "tolerance (bars past it fail), the number beside it the share of the tolerance used (or how many times "
+       "the tolerance the value is); a dot means a value of exactly 0. Italic metrics are informational. Hover a "
        "metric for its unit and why its tolerance is what it is. The histogram counts per-item errors by decade, "
        "with the tolerance of the metric it bins as a dashed line. Thumbnails: the CPU reference's output, then "
        "the GPU path's own, same view.</p>\n";
@@ -333,7 +344,7 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
         exactNames += (exactCount++ ? ", " : "") + escape(m.name);
       }
     if (exactCount)
-      h << "<tr class='exact'><td colspan='4'><span class='check'>✓</span> " << exactCount
+      h << "<tr class='exact'><td colspan='5'><span class='check'>✓</span> " << exactCount
         << " exact checks, all 0: <span class='names'>" << exactNames << "</span></td></tr>";
     double histogramTolerance = 0.0;
     for (const Metric& m : r.metrics) {
@@ -344,9 +355,9 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
         << escape(m.name) << "</td><td class='v'>" << fmt::format("{:.3g}", m.value) << "</td>";
       if (m.gating)
         h << "<td class='v'>" << (m.pass() ? "≤ " : "> ") << fmt::format("{:.3g}", m.tolerance) << "</td><td>"
-          << marginSvg(m) << "</td>";
+          << marginSvg(m) << "</td><td class='ratio'>" << marginText(m) << "</td>";
       else
-        h << "<td colspan='2'>" << escape(m.unit) << "</td>";
+        h << "<td colspan='3'>" << escape(m.unit) << "</td>";
       h << "</tr>";
     }
     h << "</table>";
@@ -362,7 +373,7 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
         << "</div>";
     h << "</td><td class='imgs'>";
     for (size_t i = 0; i < r.images.size(); ++i)
-      h << "<figure><img src='" << escape(r.images[i]) << "' width='136' alt='" << (i == 0 ? "CPU" : "GPU")
+      h << "<figure><img src='" << escape(r.images[i]) << "' width='120' alt='" << (i == 0 ? "CPU" : "GPU")
         << " image of " << escape(r.name) << "'><figcaption>" << (i == 0 ? "CPU reference" : "GPU " + escape(r.path))
         << "</figcaption></figure>";
     h << fmt::format("</td><td class='num'>{:.1f} / {:.1f}</td></tr>\n", r.cpuMilliseconds, r.gpuMilliseconds);
