@@ -15,11 +15,30 @@ function(ft_target_defaults target)
   endif()
 endfunction()
 
-# ft_add_library(name SOURCES ... DEPS ...): a static library of the project.
+# Layered includes: a layer (common/, scene/, reference/, gpu/, ...) sees only
+# its own headers and those of the layers it links. ft_layer_include_root(out)
+# makes <build>/include-roots/<layer>/ holding one symlink, <layer> -> the
+# source folder, so `#include "<layer>/x.h"` resolves through it and through
+# nothing else; the root travels to dependents with the library's PUBLIC
+# include directories. A layer that does not link gpu/ (reference/) gets no
+# root that holds gpu/, so `#include "gpu/..."` there fails to compile
+# (test layer_includes, cmake/CheckLayerIncludes.cmake). tests/ and bench/
+# see every layer (include_directories(${PROJECT_SOURCE_DIR}) there).
+function(ft_layer_include_root out)
+  get_filename_component(layer ${CMAKE_CURRENT_SOURCE_DIR} NAME)
+  set(root ${PROJECT_BINARY_DIR}/include-roots/${layer})
+  file(MAKE_DIRECTORY ${root})
+  file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR} ${root}/${layer} SYMBOLIC)  # replaces a stale link
+  set(${out} ${root} PARENT_SCOPE)
+endfunction()
+
+# ft_add_library(name SOURCES ... DEPS ...): a static library of the project,
+# seeing its own layer's headers and those of DEPS / PRIVATE_DEPS.
 function(ft_add_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
   add_library(${name} STATIC ${ARG_SOURCES})
-  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  ft_layer_include_root(root)
+  target_include_directories(${name} PUBLIC ${root})
   target_link_libraries(${name} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   ft_target_defaults(${name})
 endfunction()

@@ -71,5 +71,16 @@ struct KnitSolveParams {
 };
 FT_ASSERT_SIZE(KnitSolveParams, 16)
 
+// What the GPU optimizer reports per stitch (std430, one record per stitch):
+// eq. 3 before iteration k in energy[k], after the last in energy[iterations].
+struct KnitEnergyGpu {
+  float energy[FT_KNIT_MAX_ITERATIONS + 1];
+  uint steps;  // iterations that changed Θ
+  uint pad0;
+  uint pad1;
+};
+FT_ASSERT_SIZE(KnitEnergyGpu, 48)
+FT_ASSERT_OFFSET(KnitEnergyGpu, steps, 36)
+
 FT_NAMESPACE_END
 #endif  // FT_KNIT_STITCH_H

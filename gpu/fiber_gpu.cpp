@@ -11,20 +11,16 @@ namespace ft {
 
 namespace {
 
-GLuint makeBuffer(size_t bytes, const void* data = nullptr) {
-  GLuint b = 0;
-  glCreateBuffers(1, &b);
+Buffer makeBuffer(size_t bytes, const void* data = nullptr) {
   // Never empty (binding a zero-size buffer is an error); upload only the
   // caller's bytes (ASan caught a 16-byte read of an 8-byte table).
-  glNamedBufferData(b, static_cast<GLsizeiptr>(std::max<size_t>(bytes, 16)), nullptr, GL_DYNAMIC_DRAW);
-  if (data && bytes) glNamedBufferSubData(b, 0, static_cast<GLsizeiptr>(bytes), data);
+  Buffer b = Buffer::createMutable(std::max<size_t>(bytes, 16));
+  if (data && bytes) b.update(data, bytes);
   return b;
 }
 
-void replaceBuffer(GLuint& b, size_t bytes, const void* data = nullptr) {
-  if (b) glDeleteBuffers(1, &b);
-  b = makeBuffer(bytes, data);
-}
+// The old buffer is deleted by the move assignment.
+void replaceBuffer(Buffer& b, size_t bytes, const void* data = nullptr) { b = makeBuffer(bytes, data); }
 
 template <class T>
 std::vector<T> readBack(GLuint buffer, size_t count) {
@@ -60,60 +56,49 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
       maxPatchVertices_(gl.renderer.find("llvmpipe") != std::string::npos ? kLlvmpipeMaxPatchVertices : 0),
       maxGroupsY_(gl.maxComputeWorkGroupCount[1]),
       maxGroupsZ_(gl.maxComputeWorkGroupCount[2]) {
-  framesProgram_ = buildProgram({"shaders/yarn_frames.comp.glsl"}, defines_);
-  decideProgram_ = buildProgram({"shaders/fiber_decide.comp.glsl"}, defines_);
-  scanProgram_ = buildProgram({"shaders/fiber_scan.comp.glsl"}, defines_);
-  ownersProgram_ = buildProgram({"shaders/fiber_owners.comp.glsl"}, defines_);
-  samplesProgram_ = buildProgram({"shaders/fiber_samples.comp.glsl"}, defines_);
-  generateProgram_ = buildProgram({"shaders/fiber_generate.comp.glsl"}, defines_);
+  framesProgram_ = Program(buildProgram({"shaders/yarn_frames.comp.glsl"}, defines_));
+  decideProgram_ = Program(buildProgram({"shaders/fiber_decide.comp.glsl"}, defines_));
+  scanProgram_ = Program(buildProgram({"shaders/fiber_scan.comp.glsl"}, defines_));
+  ownersProgram_ = Program(buildProgram({"shaders/fiber_owners.comp.glsl"}, defines_));
+  samplesProgram_ = Program(buildProgram({"shaders/fiber_samples.comp.glsl"}, defines_));
+  generateProgram_ = Program(buildProgram({"shaders/fiber_generate.comp.glsl"}, defines_));
   const std::vector<std::string> tess = {"shaders/fiber_tess.vert.glsl", "shaders/fiber_tess.tesc.glsl",
                                          "shaders/fiber_tess.tese.glsl"};
-  tessCaptureProgram_ = buildProgram(tess, defines_, {"fiberPosition", "fiberId"});
+  tessCaptureProgram_ = Program(buildProgram(tess, defines_, {"fiberPosition", "fiberId"}));
   std::vector<std::string> tessDraw = tess;
   tessDraw.push_back("shaders/fiber_strip.geom.glsl");
   tessDraw.push_back("shaders/fiber_strip.frag.glsl");
   std::vector<std::string> drawDefines = defines_;
   drawDefines.push_back("FT_STRIP_TANGENTS");  // the evaluation stage also gives the strip tangent
-  tessDrawProgram_ = buildProgram(tessDraw, drawDefines);
-  stripDrawProgram_ = buildProgram(
-      {"shaders/fiber_strip.vert.glsl", "shaders/fiber_strip.geom.glsl", "shaders/fiber_strip.frag.glsl"}, defines_);
-  glCreateVertexArrays(1, &vao_);
-  glCreateFramebuffers(1, &captureFbo_);
-  glNamedFramebufferParameteri(captureFbo_, GL_FRAMEBUFFER_DEFAULT_WIDTH, 1);
-  glNamedFramebufferParameteri(captureFbo_, GL_FRAMEBUFFER_DEFAULT_HEIGHT, 1);
+  tessDrawProgram_ = Program(buildProgram(tessDraw, drawDefines));
+  stripDrawProgram_ = Program(buildProgram(
+      {"shaders/fiber_strip.vert.glsl", "shaders/fiber_strip.geom.glsl", "shaders/fiber_strip.frag.glsl"}, defines_));
+  vao_ = VertexArray::create();
+  captureFbo_ = Framebuffer::create();
+  glNamedFramebufferParameteri(captureFbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, 1);
+  glNamedFramebufferParameteri(captureFbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, 1);
   yarnUbo_ = makeBuffer(sizeof(YarnParams));
   viewUbo_ = makeBuffer(sizeof(ViewParams));
   draw_ = makeBuffer(sizeof(DrawElementsCommand));
 }
 
-FiberGpu::~FiberGpu() {
-  for (GLuint p : {framesProgram_, decideProgram_, ownersProgram_, samplesProgram_, scanProgram_, generateProgram_, tessCaptureProgram_,
-                   tessDrawProgram_, stripDrawProgram_})
-    if (p) glDeleteProgram(p);
-  GLuint buffers[] = {yarnUbo_, viewUbo_, points_, curves_, segments_, frames_, table_,
-                      list_,    decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_};
-  glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
-  if (vao_) glDeleteVertexArrays(1, &vao_);
-  if (captureFbo_) glDeleteFramebuffers(1, &captureFbo_);
-}
-
 void FiberGpu::bindCommon() const {
-  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_YARN_PARAMS, yarnUbo_);
-  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_VIEW_PARAMS, viewUbo_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CONTROL_POINTS, points_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CURVES, curves_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SEGMENTS, segments_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAMES, frames_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FIBER_TABLE, table_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SEGMENT_LIST, list_);
-  if (decisions_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DECISIONS, decisions_);
-  if (offsets_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_OFFSETS, offsets_);
-  if (samples_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLES, samples_);
-  if (stripOwners_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_STRIP_OWNERS, stripOwners_);
-  if (sampleOwners_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLE_OWNERS, sampleOwners_);
-  if (vertices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vertices_);
-  if (indices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_INDICES, indices_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DRAW_COMMAND, draw_);
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_YARN_PARAMS, yarnUbo_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_VIEW_PARAMS, viewUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CONTROL_POINTS, points_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CURVES, curves_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SEGMENTS, segments_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAMES, frames_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FIBER_TABLE, table_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SEGMENT_LIST, list_.id());
+  if (decisions_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DECISIONS, decisions_.id());
+  if (offsets_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_OFFSETS, offsets_.id());
+  if (samples_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLES, samples_.id());
+  if (stripOwners_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_STRIP_OWNERS, stripOwners_.id());
+  if (sampleOwners_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLE_OWNERS, sampleOwners_.id());
+  if (vertices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vertices_.id());
+  if (indices_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_INDICES, indices_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DRAW_COMMAND, draw_.id());
 }
 
 void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fiberTable) {
@@ -129,16 +114,16 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
   setSegmentList({});
 
   bindCommon();
-  glUseProgram(framesProgram_);
-  setUint(framesProgram_, "curveCount", static_cast<uint32_t>(curveCount_));
-  dispatchFlat(framesProgram_, curveCount_, FT_WG_FRAMES, "yarn_frames");
+  glUseProgram(framesProgram_.id());
+  setUint(framesProgram_.id(), "curveCount", static_cast<uint32_t>(curveCount_));
+  dispatchFlat(framesProgram_.id(), curveCount_, FT_WG_FRAMES, "yarn_frames");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 void FiberGpu::setParams(const YarnParams& params, const ViewParams& view) {
   params_ = params;
-  glNamedBufferSubData(yarnUbo_, 0, sizeof(YarnParams), &params);
-  glNamedBufferSubData(viewUbo_, 0, sizeof(ViewParams), &view);
+  yarnUbo_.update(&params, sizeof(YarnParams));
+  viewUbo_.update(&view, sizeof(ViewParams));
 }
 
 void FiberGpu::setSegmentList(std::span<const uint32_t> segments) {
@@ -157,16 +142,16 @@ void FiberGpu::setSegmentList(std::span<const uint32_t> segments) {
   replaceBuffer(offsets_, listCount_ * sizeof(glm::uvec4));
 }
 
-std::vector<FrameNormal> FiberGpu::readFrames() const { return readBack<FrameNormal>(frames_, knotCount_); }
+std::vector<FrameNormal> FiberGpu::readFrames() const { return readBack<FrameNormal>(frames_.id(), knotCount_); }
 
 void FiberGpu::decideAndScan() {
   bindCommon();
-  glUseProgram(decideProgram_);
-  setUint(decideProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  dispatchFlat(decideProgram_, listCount_, FT_WG_DECIDE, "fiber_decide");
+  glUseProgram(decideProgram_.id());
+  setUint(decideProgram_.id(), "listCount", static_cast<uint32_t>(listCount_));
+  dispatchFlat(decideProgram_.id(), listCount_, FT_WG_DECIDE, "fiber_decide");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  glUseProgram(scanProgram_);
-  setUint(scanProgram_, "listCount", static_cast<uint32_t>(listCount_));
+  glUseProgram(scanProgram_.id());
+  setUint(scanProgram_.id(), "listCount", static_cast<uint32_t>(listCount_));
   glDispatchCompute(1, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 }
@@ -176,19 +161,19 @@ void FiberGpu::generateCompute() {
   // The only CPU–GPU sync of the path: the totals size the output buffers.
   ensureComputeCapacity();
   bindCommon();
-  glUseProgram(ownersProgram_);
-  setUint(ownersProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  dispatchFlat(ownersProgram_, listCount_, FT_WG_DECIDE, "fiber_owners");
+  glUseProgram(ownersProgram_.id());
+  setUint(ownersProgram_.id(), "listCount", static_cast<uint32_t>(listCount_));
+  dispatchFlat(ownersProgram_.id(), listCount_, FT_WG_DECIDE, "fiber_owners");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  glUseProgram(samplesProgram_);
-  setUint(samplesProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  setUint(samplesProgram_, "sampleTotal", static_cast<uint32_t>(pendingSamples_));
-  dispatchFlat(samplesProgram_, pendingSamples_, FT_WG_SAMPLES, "fiber_samples");
+  glUseProgram(samplesProgram_.id());
+  setUint(samplesProgram_.id(), "listCount", static_cast<uint32_t>(listCount_));
+  setUint(samplesProgram_.id(), "sampleTotal", static_cast<uint32_t>(pendingSamples_));
+  dispatchFlat(samplesProgram_.id(), pendingSamples_, FT_WG_SAMPLES, "fiber_samples");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  glUseProgram(generateProgram_);
-  setUint(generateProgram_, "listCount", static_cast<uint32_t>(listCount_));
-  setUint(generateProgram_, "stripTotal", static_cast<uint32_t>(pendingStrips_));
-  dispatchFlat(generateProgram_, pendingStrips_, FT_WG_GENERATE, "fiber_generate");
+  glUseProgram(generateProgram_.id());
+  setUint(generateProgram_.id(), "listCount", static_cast<uint32_t>(listCount_));
+  setUint(generateProgram_.id(), "stripTotal", static_cast<uint32_t>(pendingStrips_));
+  dispatchFlat(generateProgram_.id(), pendingStrips_, FT_WG_GENERATE, "fiber_generate");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
@@ -225,17 +210,17 @@ void FiberGpu::ensureComputeCapacity() {
 }
 
 std::vector<SegmentDecision> FiberGpu::readDecisions() const {
-  return readBack<SegmentDecision>(decisions_, listCount_);
+  return readBack<SegmentDecision>(decisions_.id(), listCount_);
 }
 
 DrawElementsCommand FiberGpu::readDrawCommand() const {
   DrawElementsCommand cmd{};
-  glGetNamedBufferSubData(draw_, 0, sizeof(cmd), &cmd);
+  glGetNamedBufferSubData(draw_.id(), 0, sizeof(cmd), &cmd);
   return cmd;
 }
 
 std::vector<FiberVertex> FiberGpu::readComputeVertices() const {
-  return readBack<FiberVertex>(vertices_, readDrawCommand().vertexTotal);
+  return readBack<FiberVertex>(vertices_.id(), readDrawCommand().vertexTotal);
 }
 
 size_t FiberGpu::tessellationCapacity() const { return xfbCapacityLines_; }
@@ -259,9 +244,9 @@ size_t FiberGpu::captureTessellation() {
   }
 
   bindCommon();
-  glUseProgram(tessCaptureProgram_);
-  setUint(tessCaptureProgram_, "linesPerPatch", linesPerPatch());
-  glBindVertexArray(vao_);
+  glUseProgram(tessCaptureProgram_.id());
+  setUint(tessCaptureProgram_.id(), "linesPerPatch", linesPerPatch());
+  glBindVertexArray(vao_.id());
   glPatchParameteri(GL_PATCH_VERTICES, 4);
   const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
   const uint32_t instances = (slots + linesPerPatch() - 1) / linesPerPatch();
@@ -281,34 +266,34 @@ size_t FiberGpu::captureTessellation() {
   // emits in each instance block), read back once.
   const std::vector<SegmentDecision> decisions = readDecisions();
   const uint32_t perPatch = linesPerPatch();
-  glBindFramebuffer(GL_FRAMEBUFFER, captureFbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, captureFbo_.id());
   glEnable(GL_RASTERIZER_DISCARD);
-  GLuint queries[2];
-  glGenQueries(2, queries);
+  const Query primitivesGenerated = Query::create(GL_PRIMITIVES_GENERATED);
+  const Query primitivesWritten = Query::create(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
   size_t written = 0, generated = 0;
   const size_t lineBytes = 2 * sizeof(FiberVertex);
   auto drawChunk = [&](size_t first, size_t count) {
     const size_t room = xfbCapacityLines_ > written ? xfbCapacityLines_ - written : 0;
     if (room == 0)  // still draw, to count what overflowed
-      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, 0, static_cast<GLsizeiptr>(lineBytes));
+      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_.id(), 0, static_cast<GLsizeiptr>(lineBytes));
     else
-      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_, static_cast<GLintptr>(written * lineBytes),
+      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, xfb_.id(), static_cast<GLintptr>(written * lineBytes),
                         static_cast<GLsizeiptr>(room * lineBytes));
-    glBeginQuery(GL_PRIMITIVES_GENERATED, queries[0]);
-    glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, queries[1]);
+    glBeginQuery(GL_PRIMITIVES_GENERATED, primitivesGenerated.id());
+    glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, primitivesWritten.id());
     glBeginTransformFeedback(GL_LINES);
     glDrawArrays(GL_PATCHES, static_cast<GLint>(4 * first), static_cast<GLsizei>(4 * count));
     glEndTransformFeedback();
     glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
     glEndQuery(GL_PRIMITIVES_GENERATED);
     GLuint g = 0, w = 0;
-    glGetQueryObjectuiv(queries[0], GL_QUERY_RESULT, &g);
-    glGetQueryObjectuiv(queries[1], GL_QUERY_RESULT, &w);
+    glGetQueryObjectuiv(primitivesGenerated.id(), GL_QUERY_RESULT, &g);
+    glGetQueryObjectuiv(primitivesWritten.id(), GL_QUERY_RESULT, &w);
     generated += g;
     written += room == 0 ? 0 : w;
   };
   for (uint32_t k = 0; k < instances; ++k) {
-    setUint(tessCaptureProgram_, "instanceOffset", k);
+    setUint(tessCaptureProgram_.id(), "instanceOffset", k);
     size_t first = 0, lines = 0;
     for (size_t i = 0; i < listCount_; ++i) {
       const SegmentDecision& d = decisions[i];
@@ -326,7 +311,6 @@ size_t FiberGpu::captureTessellation() {
   }
   glDisable(GL_RASTERIZER_DISCARD);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDeleteQueries(2, queries);
   if (generated != written)
     throw std::runtime_error(fmt::format("tessellation capture overflow: {} lines generated, {} written (buffer "
                                          "sized for {} from the GPU decisions)",
@@ -335,21 +319,21 @@ size_t FiberGpu::captureTessellation() {
   return xfbLines_;
 }
 
-std::vector<FiberVertex> FiberGpu::readTessellationLines() const { return readBack<FiberVertex>(xfb_, 2 * xfbLines_); }
+std::vector<FiberVertex> FiberGpu::readTessellationLines() const { return readBack<FiberVertex>(xfb_.id(), 2 * xfbLines_); }
 
 template <class Draw>
 RgbaImage FiberGpu::renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw) {
-  GLuint fbo[2], color[2], depth;
-  glCreateFramebuffers(2, fbo);
-  glCreateRenderbuffers(2, color);
-  glCreateRenderbuffers(1, &depth);
-  glNamedRenderbufferStorageMultisample(color[0], 4, GL_RGBA8, width, height);
-  glNamedRenderbufferStorageMultisample(depth, 4, GL_DEPTH_COMPONENT24, width, height);
-  glNamedRenderbufferStorage(color[1], GL_RGBA8, width, height);
-  glNamedFramebufferRenderbuffer(fbo[0], GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color[0]);
-  glNamedFramebufferRenderbuffer(fbo[0], GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-  glNamedFramebufferRenderbuffer(fbo[1], GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color[1]);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo[0]);
+  // Multisampled colour + depth, resolved into a single-sampled colour target.
+  const Framebuffer msFbo = Framebuffer::create(), resolveFbo = Framebuffer::create();
+  const Renderbuffer msColor = Renderbuffer::create(), depth = Renderbuffer::create(),
+                     resolveColor = Renderbuffer::create();
+  glNamedRenderbufferStorageMultisample(msColor.id(), 4, GL_RGBA8, width, height);
+  glNamedRenderbufferStorageMultisample(depth.id(), 4, GL_DEPTH_COMPONENT24, width, height);
+  glNamedRenderbufferStorage(resolveColor.id(), GL_RGBA8, width, height);
+  glNamedFramebufferRenderbuffer(msFbo.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColor.id());
+  glNamedFramebufferRenderbuffer(msFbo.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.id());
+  glNamedFramebufferRenderbuffer(resolveFbo.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, msFbo.id());
   glViewport(0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
   glClearColor(style.background.x, style.background.y, style.background.z, 1.0f);
@@ -360,11 +344,11 @@ RgbaImage FiberGpu::renderWith(int width, int height, const RenderStyle& style, 
                      style.lightDir.z);
   glProgramUniform3f(program, glGetUniformLocation(program, "baseColor"), style.baseColor.x, style.baseColor.y,
                      style.baseColor.z);
-  glBindVertexArray(vao_);
+  glBindVertexArray(vao_.id());
   draw();
-  glBlitNamedFramebuffer(fbo[0], fbo[1], 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBlitNamedFramebuffer(msFbo.id(), resolveFbo.id(), 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   RgbaImage img{width, height, std::vector<uint8_t>(static_cast<size_t>(width) * height * 4)};
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo[1]);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, resolveFbo.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   std::vector<uint8_t> rows(img.pixels.size());
   glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
@@ -373,20 +357,17 @@ RgbaImage FiberGpu::renderWith(int width, int height, const RenderStyle& style, 
                 img.pixels.data() + static_cast<size_t>(y) * width * 4);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glDisable(GL_DEPTH_TEST);
-  glDeleteFramebuffers(2, fbo);
-  glDeleteRenderbuffers(2, color);
-  glDeleteRenderbuffers(1, &depth);
   return img;
 }
 
 RgbaImage FiberGpu::renderCompute(int width, int height, const RenderStyle& style) {
   generateCompute();
   const uint32_t vertexTotal = readDrawCommand().vertexTotal;
-  return renderWith(width, height, style, stripDrawProgram_, [&] {
-    setUint(stripDrawProgram_, "vertexTotal", vertexTotal);
+  return renderWith(width, height, style, stripDrawProgram_.id(), [&] {
+    setUint(stripDrawProgram_.id(), "vertexTotal", vertexTotal);
     glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_);
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_.id());
     glDrawElementsIndirect(GL_LINE_STRIP, GL_UNSIGNED_INT, nullptr);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
@@ -394,9 +375,9 @@ RgbaImage FiberGpu::renderCompute(int width, int height, const RenderStyle& styl
 }
 
 RgbaImage FiberGpu::renderTessellation(int width, int height, const RenderStyle& style) {
-  return renderWith(width, height, style, tessDrawProgram_, [&] {
-    setUint(tessDrawProgram_, "linesPerPatch", linesPerPatch());
-    setUint(tessDrawProgram_, "instanceOffset", 0u);
+  return renderWith(width, height, style, tessDrawProgram_.id(), [&] {
+    setUint(tessDrawProgram_.id(), "linesPerPatch", linesPerPatch());
+    setUint(tessDrawProgram_.id(), "instanceOffset", 0u);
     glPatchParameteri(GL_PATCH_VERTICES, 4);
     const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
     const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch() - 1) / linesPerPatch());
@@ -420,18 +401,16 @@ RgbaImage FiberGpu::renderVertices(std::span<const FiberVertex> vertices, std::s
   if (base != vertices.size())
     throw std::runtime_error(fmt::format("renderVertices: decisions describe {} vertices, stream has {}", base,
                                          vertices.size()));
-  GLuint vbo = makeBuffer(vertices.size_bytes(), vertices.data());
-  GLuint ibo = makeBuffer(indices.size() * sizeof(uint32_t), indices.data());
-  RgbaImage img = renderWith(width, height, style, stripDrawProgram_, [&] {
-    setUint(stripDrawProgram_, "vertexTotal", static_cast<uint32_t>(vertices.size()));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES, vbo);
+  const Buffer vbo = makeBuffer(vertices.size_bytes(), vertices.data());
+  const Buffer ibo = makeBuffer(indices.size() * sizeof(uint32_t), indices.data());
+  RgbaImage img = renderWith(width, height, style, stripDrawProgram_.id(), [&] {
+    setUint(stripDrawProgram_.id(), "vertexTotal", static_cast<uint32_t>(vertices.size()));
+    vbo.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES);
     glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo.id());
     glDrawElements(GL_LINE_STRIP, static_cast<GLsizei>(indices.size()), GL_UNSIGNED_INT, nullptr);
     glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
   });
-  glDeleteBuffers(1, &vbo);
-  glDeleteBuffers(1, &ibo);
   return img;
 }
 

@@ -21,6 +21,7 @@
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
 #include "gpu/gl_context.h"
+#include "gpu/gl_objects.h"
 #include "scene/fiber_input.h"
 
 namespace ft {
@@ -41,8 +42,8 @@ class FiberGpu {
  public:
   // `defines` are injected into every shader (fault injection uses them);
   // limits (GL_MAX_TESS_GEN_LEVEL, work-group counts) come from `gl`.
+  // GL objects are RAII owners (gpu/gl_objects.h): destroy before the context.
   FiberGpu(const GlInfo& gl, std::vector<std::string> defines = {});
-  ~FiberGpu();
   FiberGpu(const FiberGpu&) = delete;
   FiberGpu& operator=(const FiberGpu&) = delete;
 
@@ -94,13 +95,13 @@ class FiberGpu {
   int maxPatchVertices_ = 0;  // 0: no limit
   int maxGroupsY_ = 65535;
   int maxGroupsZ_ = 65535;
-  GLuint framesProgram_ = 0, decideProgram_ = 0, ownersProgram_ = 0, samplesProgram_ = 0, scanProgram_ = 0, generateProgram_ = 0;
-  GLuint tessCaptureProgram_ = 0, tessDrawProgram_ = 0, stripDrawProgram_ = 0;
-  GLuint vao_ = 0;
-  GLuint captureFbo_ = 0;  // attachment-less: surfaceless contexts have no default framebuffer
-  GLuint yarnUbo_ = 0, viewUbo_ = 0;
-  GLuint points_ = 0, curves_ = 0, segments_ = 0, frames_ = 0, table_ = 0, list_ = 0;
-  GLuint decisions_ = 0, offsets_ = 0, samples_ = 0, stripOwners_ = 0, sampleOwners_ = 0, vertices_ = 0, indices_ = 0, draw_ = 0, xfb_ = 0;
+  Program framesProgram_, decideProgram_, ownersProgram_, samplesProgram_, scanProgram_, generateProgram_;
+  Program tessCaptureProgram_, tessDrawProgram_, stripDrawProgram_;
+  VertexArray vao_;
+  Framebuffer captureFbo_;  // attachment-less: surfaceless contexts have no default framebuffer
+  Buffer yarnUbo_, viewUbo_;
+  Buffer points_, curves_, segments_, frames_, table_, list_;
+  Buffer decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_;
   size_t curveCount_ = 0, segmentCount_ = 0, knotCount_ = 0, listCount_ = 0, inputBytes_ = 0;
   size_t pendingStrips_ = 0, pendingSamples_ = 0, sampleCapacity_ = 0, stripCapacity_ = 0, vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;
   YarnParams params_{};

@@ -75,8 +75,28 @@ struct BufferTraits {
 using Program = GlObject<detail::ProgramTraits>;
 using Shader = GlObject<detail::ShaderTraits>;
 using Texture = GlObject<detail::TextureTraits>;
-using Framebuffer = GlObject<detail::FramebufferTraits>;
-using Renderbuffer = GlObject<detail::RenderbufferTraits>;
+
+class Framebuffer : public GlObject<detail::FramebufferTraits> {
+ public:
+  using GlObject::GlObject;
+  static Framebuffer create() {
+    GLuint id = 0;
+    glCreateFramebuffers(1, &id);
+    glCheck("glCreateFramebuffers");
+    return Framebuffer(id);
+  }
+};
+
+class Renderbuffer : public GlObject<detail::RenderbufferTraits> {
+ public:
+  using GlObject::GlObject;
+  static Renderbuffer create() {
+    GLuint id = 0;
+    glCreateRenderbuffers(1, &id);
+    glCheck("glCreateRenderbuffers");
+    return Renderbuffer(id);
+  }
+};
 
 class VertexArray : public GlObject<detail::VertexArrayTraits> {
  public:

@@ -34,7 +34,7 @@ void KnitGpu::setStitches(std::span<const KnitStitchGpu> stitches, const KnitSol
   params_.update(&params, sizeof(params));
   stitches_ = Buffer::create(stitches.size_bytes(), stitches.data());
   points_ = Buffer::create(size_t(stitchCount_) * FT_KNIT_TILE_POINTS * sizeof(glm::vec4));
-  energies_ = Buffer::create(size_t(stitchCount_) * 3 * sizeof(glm::vec4));
+  energies_ = Buffer::create(size_t(stitchCount_) * sizeof(KnitEnergyGpu));
 }
 
 void KnitGpu::setYarnList(std::span<const glm::uvec4> list) {
@@ -85,8 +85,8 @@ void KnitGpu::run() {
 std::vector<glm::vec4> KnitGpu::readPoints() const {
   return readBuffer<glm::vec4>(points_.id(), size_t(stitchCount_) * FT_KNIT_TILE_POINTS);
 }
-std::vector<glm::vec4> KnitGpu::readEnergies() const {
-  return readBuffer<glm::vec4>(energies_.id(), size_t(stitchCount_) * 3);
+std::vector<KnitEnergyGpu> KnitGpu::readEnergies() const {
+  return readBuffer<KnitEnergyGpu>(energies_.id(), size_t(stitchCount_));
 }
 std::vector<glm::vec4> KnitGpu::readVertices() const {
   return readBuffer<glm::vec4>(vertices_.id(), listCount_ * FT_KNIT_UPSAMPLE);

@@ -34,9 +34,9 @@ class KnitGpu {
 
   uint32_t stitchCount() const { return stitchCount_; }
   // Read-backs (wait for the GPU): world points (stitch * 14 + i), per-stitch
-  // energies (3 vec4: E before iterations 0..7, after the last, steps), vertices.
+  // energies (KnitEnergyGpu per stitch, common/knit_stitch.h), vertices.
   std::vector<glm::vec4> readPoints() const;
-  std::vector<glm::vec4> readEnergies() const;
+  std::vector<KnitEnergyGpu> readEnergies() const;
   std::vector<glm::vec4> readVertices() const;
 
  private:

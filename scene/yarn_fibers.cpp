@@ -112,4 +112,12 @@ YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord
   return p;
 }
 
+FiberSetup makeFiberSetup(const YarnPreset& preset, const FiberOptions& options) {
+  checkFiberOptions(preset, options);
+  FiberSetup s;
+  s.table = makeFiberTable(preset, options.seed);
+  s.params = makeYarnParams(preset, s.table, options);
+  return s;
+}
+
 }  // namespace ft

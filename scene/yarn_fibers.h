@@ -38,4 +38,15 @@ void checkFiberOptions(const YarnPreset& preset, const FiberOptions& options);
 YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord>& table,
                           const FiberOptions& options);
 
+// What both generators read for one preset: the fiber table (seeded by
+// options.seed) and the YarnParams made from it.
+struct FiberSetup {
+  std::vector<FiberCoord> table;
+  YarnParams params{};
+};
+
+// The one path from a preset and options to the generators' inputs:
+// makeFiberTable then makeYarnParams. Throws InputError like makeYarnParams.
+FiberSetup makeFiberSetup(const YarnPreset& preset, const FiberOptions& options);
+
 }  // namespace ft

@@ -186,8 +186,7 @@ FittedFibers fitFibers(const YarnPreset& preset, double yarnRadius, std::string 
   f.fit.source = std::move(source);
   FiberOptions o = options;
   o.fiberRadius = static_cast<float>(options.fiberRadius * f.fit.scale);
-  f.table = makeFiberTable(f.fit.preset, o.seed);
-  f.params = makeYarnParams(f.fit.preset, f.table, o);
+  static_cast<FiberSetup&>(f) = makeFiberSetup(f.fit.preset, o);
   return f;
 }
 

@@ -57,12 +57,10 @@ struct FittedPreset {
 FittedPreset fitYarnPreset(const YarnPreset& preset, const YarnModel& model, std::optional<double> yarnRadius);
 
 // The preset fitted to the model (options.yarnRadius > 0 overrides the
-// estimate), its fiber table and YarnParams. The drawn fiber radius scales
-// with the preset, like every other length.
-struct FittedFibers {
+// estimate), then makeFiberSetup: its fiber table and YarnParams. The drawn
+// fiber radius scales with the preset, like every other length.
+struct FittedFibers : FiberSetup {
   FittedPreset fit;
-  std::vector<FiberCoord> table;
-  YarnParams params{};
 };
 FittedFibers fitFibers(const YarnPreset& preset, const YarnModel& model, const FiberOptions& options);
 

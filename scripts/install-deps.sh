@@ -14,6 +14,8 @@ packages=(
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev
   # shader checks in the tests
   glslang-tools
+  # the report page check in headless Chromium (tests/report_page_test.py)
+  chromium
 )
 
 missing=()

@@ -157,6 +157,25 @@ run_case "validate --model <directory>" 2 "$TMP/a-directory.bcc" "directory" -- 
   validate --model "$TMP/a-directory.bcc" --no-images --report "$TMP/report"
 expect_absent "validate on unreadable models (no report)" "$TMP/report"
 
+# ---- the command line itself: parse errors exit 2 (not CLI11's own codes) ----------
+run_case "validate --filter '('" 2 "--filter" "'('" "regular expression" -- \
+  validate --filter '(' --no-images --report "$TMP/report"
+run_case "validate --no-such-option" 2 "--no-such-option" -- validate --no-such-option --report "$TMP/report"
+run_case "no subcommand" 2 "re:[Ss]ubcommand" --
+run_case "render --width 5" 2 "--width" "5" -- render --width 5 --out "$TMP/x.png"
+run_case "knit --rows abc" 2 "--rows" "abc" -- knit --rows abc --no-image --out "$TMP/k.bcc"
+run_case "validate --tess-segments -3" 2 "--tess-segments" -- validate --tess-segments -3 --report "$TMP/report"
+run_case "render --seed -1" 2 "--seed" "-1" -- render --seed -1 --out "$TMP/x.png"
+expect_absent "validate on bad command lines (no report)" "$TMP/report"
+# --version: exit 0, the CMake project version and the configure-time commit.
+if version=$("$FT" --version 2>&1) && [[ $version =~ ^fibertwin\ [0-9]+\.[0-9]+\.[0-9]+\ \(commit\ ([0-9a-f]{7,}|unknown)\)$ ]]; then
+  passed=$((passed + 1))
+else
+  echo "FAIL  --version: printed '$version'"
+  failed=$((failed + 1))
+  failures+="  --version\n"
+fi
+
 # ---- bad option values ------------------------------------------------------------
 yarn_names=(cotton1 cotton2 polyester1 rayon1 silk2)
 run_case "validate --yarn nosuch" 2 "nosuch" "${yarn_names[@]}" -- \

@@ -35,8 +35,11 @@ class FiberGpuTest : public ::testing::Test {
     model_ = makeDefaultScene();
     buffers_ = buildYarnBuffers(model_);
     const YarnPreset& preset = findYarnPreset("cotton2");
-    table_ = makeFiberTable(preset, 5);
-    params_ = makeYarnParams(preset, table_, FiberOptions{});
+    FiberOptions o;
+    o.seed = 5;
+    FiberSetup fibers = makeFiberSetup(preset, o);
+    table_ = std::move(fibers.table);
+    params_ = fibers.params;
     view_ = makeViewParams(lodCamera(model_, params_, LodDistance::Near, 1.0f, 640, 480), 1.0f, true, true);
     frames_ = computeKnotFramesCpu(buffers_);
     gpu_->setModel(buffers_, table_);

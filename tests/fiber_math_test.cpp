@@ -32,10 +32,9 @@ const SceneData& defaultSetup() {
 
 YarnParams paramsFor(const char* yarn, std::vector<FiberCoord>* tableOut = nullptr) {
   const YarnPreset& p = findYarnPreset(yarn);
-  std::vector<FiberCoord> table = makeFiberTable(p, 1);
-  YarnParams params = makeYarnParams(p, table, FiberOptions{});
-  if (tableOut) *tableOut = table;
-  return params;
+  FiberSetup fibers = makeFiberSetup(p, FiberOptions{});
+  if (tableOut) *tableOut = std::move(fibers.table);
+  return fibers.params;
 }
 
 TEST(YarnCurve, CatmullRomToBezierMatchesDirectEvaluation) {

@@ -15,8 +15,11 @@ TEST(FiberReference, CanonicalOrderAndDeterminism) {
   const YarnModel model = makeDefaultScene();
   const YarnBuffers buffers = buildYarnBuffers(model);
   const YarnPreset& preset = findYarnPreset("polyester1");
-  const std::vector<FiberCoord> table = makeFiberTable(preset, 3);
-  const YarnParams params = makeYarnParams(preset, table, FiberOptions{});
+  FiberOptions options;
+  options.seed = 3;
+  const FiberSetup fibers = makeFiberSetup(preset, options);
+  const std::vector<FiberCoord>& table = fibers.table;
+  const YarnParams& params = fibers.params;
   const Camera cam = lodCamera(model, params, LodDistance::Near, 1.0f, 640, 480);
   FiberInput input{&buffers, &table, params, makeViewParams(cam, 1.0f, true, true)};
   const std::vector<FrameNormal> frames = computeKnotFramesCpu(buffers);
@@ -50,8 +53,9 @@ TEST(FiberReference, SegmentSubsetMatchesTheFullRun) {
   const YarnModel model = makeDefaultScene();
   const YarnBuffers buffers = buildYarnBuffers(model);
   const YarnPreset& preset = findYarnPreset("silk1");
-  const std::vector<FiberCoord> table = makeFiberTable(preset, 1);
-  const YarnParams params = makeYarnParams(preset, table, FiberOptions{});
+  const FiberSetup fibers = makeFiberSetup(preset, FiberOptions{});
+  const std::vector<FiberCoord>& table = fibers.table;
+  const YarnParams& params = fibers.params;
   FiberInput input{&buffers, &table, params, makeViewParams(frameModel(model, {0, 1, 1}, 320, 240), 1.0f, false, false)};
   const std::vector<FrameNormal> frames = computeKnotFramesCpu(buffers);
   const FiberGeometry all = generateFibersCpu(input, frames);

@@ -48,8 +48,8 @@ TEST_F(KnitGpuTest, OptimizedPointsEnergiesAndVerticesMatchTheReference) {
       // Energies: float vs double of a sum of ~33 squares; relative 1e-3 plus
       // an absolute floor for the converged (near zero) ones.
       for (int k = 0; k < 4; ++k)
-        EXPECT_NEAR(energies[t * 3][k], cpu.energy[t][k], 1e-3 * cpu.energy[t][k] + 1e-9) << t << " " << k;
-      EXPECT_EQ(uint32_t(energies[t * 3 + 2].y), cpu.steps[t]);
+        EXPECT_NEAR(energies[t].energy[k], cpu.energy[t][k], 1e-3 * cpu.energy[t][k] + 1e-9) << t << " " << k;
+      EXPECT_EQ(energies[t].steps, cpu.steps[t]);
     }
     const YarnModel ref = knitYarnModel(s, cpu.worldPoints, true);
     const YarnModel got = knitYarnModelFromVertices(s, gpu.readVertices());

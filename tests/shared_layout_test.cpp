@@ -53,6 +53,7 @@ namespace {
 #define FT_KNIT_STITCH_GPU_MEMBERS(X) \
   X(origin) X(e1) X(e2) X(normal) X(knots) X(theta0) X(fixedXY) X(fixedH) X(restLength) X(restCosine) X(misc)
 #define FT_KNIT_SOLVE_PARAMS_MEMBERS(X) X(wAngle) X(wLength) X(iterations) X(stitchCount)
+#define FT_KNIT_ENERGY_GPU_MEMBERS(X) X(energy) X(steps) X(pad0) X(pad1)
 // clang-format on
 
 struct Member {
@@ -102,6 +103,7 @@ std::vector<StructCase> structCases() {
       FT_STORAGE_CASE(YarnSample, FT_YARN_SAMPLE_MEMBERS, FT_SSBO_SAMPLES),
       FT_UNIFORM_CASE(KnitSolveParams, FT_KNIT_SOLVE_PARAMS_MEMBERS, "KnitParamsBlock", "knit", FT_UBO_KNIT_PARAMS),
       FT_STORAGE_CASE(KnitStitchGpu, FT_KNIT_STITCH_GPU_MEMBERS, FT_SSBO_KNIT_STITCHES),
+      FT_STORAGE_CASE(KnitEnergyGpu, FT_KNIT_ENERGY_GPU_MEMBERS, FT_SSBO_KNIT_ENERGY),
   };
 }
 
@@ -270,6 +272,7 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   add(pattern<DrawElementsCommand>(900.0f), FT_SSBO_DRAW_COMMAND);
   add(pattern<YarnSample>(1000.0f), FT_SSBO_SAMPLES);
   add(pattern<KnitStitchGpu>(1100.0f), FT_SSBO_KNIT_STITCHES);
+  add(pattern<KnitEnergyGpu>(1300.0f), FT_SSBO_KNIT_ENERGY);
   KnitSolveParams knit = pattern<KnitSolveParams>(1200.0f);
   Buffer knitUbo = Buffer::create(sizeof knit, &knit);
   knitUbo.bindBase(GL_UNIFORM_BUFFER, FT_UBO_KNIT_PARAMS);
@@ -296,6 +299,7 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   check(7, pattern<DrawElementsCommand>(900.0f), "DrawElementsCommand");
   check(8, pattern<YarnSample>(1000.0f), "YarnSample");
   check(9, pattern<KnitStitchGpu>(1100.0f), "KnitStitchGpu");
+  check(10, pattern<KnitEnergyGpu>(1300.0f), "KnitEnergyGpu");
   expectSameBytes(knit, readBuffer<KnitSolveParams>(knitCopy.id(), 1)[0], "KnitSolveParams (uniform block)");
 
   // std140 uniform → std430 storage copy: both layouts equal the C++ one for these structs.

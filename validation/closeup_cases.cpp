@@ -72,21 +72,12 @@ bool hairBreak(const uvec4& a, const uvec4& b) {
   return periodChange && ((a.w & 0xFFu) == FT_FIBER_HAIR || (b.w & 0xFFu) == FT_FIBER_HAIR);
 }
 
-struct Setup {
-  std::vector<FiberCoord> table;
-  YarnParams params{};
-};
-
-const Setup& closeupSetup(ValidationContext& ctx, const YarnPreset& preset) {
+const FiberSetup& closeupSetup(ValidationContext& ctx, const YarnPreset& preset) {
   auto& slot = ctx.cache()["closeup-preset/" + preset.name];
-  if (!slot) {
-    auto s = std::make_shared<Setup>();
-    FittedFibers f = fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
-    s->table = std::move(f.table);
-    s->params = f.params;
-    slot = s;
-  }
-  return *static_cast<Setup*>(slot.get());
+  if (!slot)
+    slot = std::make_shared<FiberSetup>(
+        fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber));
+  return *static_cast<FiberSetup*>(slot.get());
 }
 
 const std::vector<FrameNormal>& framesCpu(ValidationContext& ctx) {
@@ -109,7 +100,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   r.group = "closeup";
   r.path = tessellation ? "tessellation" : "compute";
   const HarnessOptions& o = ctx.options();
-  const Setup& s = closeupSetup(ctx, preset);
+  const FiberSetup& s = closeupSetup(ctx, preset);
   const YarnParams& p = s.params;
   const int width = o.lodWidth, height = o.lodHeight;
   const Camera camera = closeupCamera(ctx.model(), width, height);

@@ -1,6 +1,7 @@
 // faults.h — realistic shader bugs that `--inject` builds into the GPU side
 // (as preprocessor defines of the shared headers / shaders). Each must make
 // at least one validation case fail; tests/fault_injection_test.cpp checks it.
+// The faults themselves are listed once, in validation/faults.def.
 #pragma once
 #include <string_view>
 
@@ -15,45 +16,10 @@ struct Fault {
   const char* filter;       // the cases that can see it (regex; "" = all), to keep fault runs short
 };
 
-inline constexpr const char* kFiberPaths = "tessellation,compute";
-
 inline constexpr Fault kFaults[] = {
-    {"ply-angle-sign", "FT_FAULT_PLY_ANGLE_SIGN", "ply twist angle sign flipped (common/fiber_geometry.h)",
-     "position.max_abs", kFiberPaths, "^(fiber|frames)/"},
-    {"ellipse-swap", "FT_FAULT_ELLIPSE_SWAP", "ply ellipse axes e_N and e_B swapped", "position.max_abs", kFiberPaths, "^(fiber|frames)/"},
-    {"fiber-index", "FT_FAULT_FIBER_INDEX", "fiber table read one row off (gpu/shaders/fiber_resources.glsl)",
-     "position.max_abs", kFiberPaths, "^(fiber|frames)/"},
-    {"length-ignored", "FT_FAULT_LENGTH_IGNORED", "length coordinate ignored: twist restarts every segment",
-     "position.max_abs", kFiberPaths, "^(fiber|frames)/"},
-    {"lod-inverted", "FT_FAULT_LOD_INVERTED", "LoD comparison of eq. 4 inverted", "decisions.mismatched", kFiberPaths, "^(fiber|frames)/"},
-    {"hair-period", "FT_FAULT_HAIR_PERIOD", "random draw keyed by the wrong period: hair/loop periods misassigned",
-     "ids.mismatched", kFiberPaths, "^(fiber|frames)/"},
-    {"cull-margin", "FT_FAULT_CULL_MARGIN", "frustum test forgets the fibers' reach beyond the yarn axis",
-     "decisions.mismatched", kFiberPaths, "^(fiber|frames)/"},
-    {"rmf-one-reflection", "FT_FAULT_RMF_ONE_REFLECTION",
-     "frame propagation skips the second reflection of the double-reflection method (common/yarn_frame.h)",
-     "normal.max_angle", kFiberPaths, "^(fiber|frames)/"},
-    {"knit-jacobian-swap", "FT_FAULT_KNIT_JACOBIAN_SWAP",
-     "Gauss-Newton Jacobian columns of theta_L and l_L swapped (common/knit_solver.h)", "points.max_abs", "knit",
-     "^knit/"},
-    {"knit-length-weight", "FT_FAULT_KNIT_LENGTH_WEIGHT",
-     "eq. 6 residual scaled by w_length instead of its square root (common/knit_solver.h)", "points.max_abs", "knit",
-     "^knit/"},
-    {"knit-constraint-dropped", "FT_FAULT_KNIT_CONSTRAINT_DROPPED",
-     "p0/p1 keep the interpolated contact direction: eq. 4 perpendicularity dropped (common/knit_solver.h)",
-     "gpu.perpendicularity", "knit", "^knit/"},
-    {"knit-coupling-dropped", "FT_FAULT_KNIT_COUPLING_DROPPED",
-     "normal equations lose the block that couples the two knots (the angle at the apex; common/knit_solver.h)",
-     "points.max_abs", "knit", "^knit/"},
-    {"knit-no-safeguard", "FT_FAULT_KNIT_NO_SAFEGUARD",
-     "Gauss-Newton steps taken even when they raise eq. 3 (common/knit_solver.h)", "gpu.energy_rises", "knit",
-     "^knit/"},
-    {"subdivisions-lambda", "FT_FAULT_SUBDIVISIONS_LAMBDA",
-     "λ² of eq. 4 scales the subdivisions again: fibers under a pixel are drawn with kinks (common/lod.h)",
-     "chord.max_px", kFiberPaths, "^closeup/"},
-    {"strip-half-width", "FT_FAULT_STRIP_HALF_WIDTH",
-     "camera-facing strips drawn at half the fiber's width (gpu/shaders/fiber_strip.geom.glsl)", "width.error_px",
-     kFiberPaths, "^strip-width/"},
+#define FT_FAULT(name, define, caughtBy, paths, filter, description) {name, #define, description, caughtBy, paths, filter},
+#include "validation/faults.def"
+#undef FT_FAULT
 };
 
 inline const Fault* findFault(std::string_view name) {

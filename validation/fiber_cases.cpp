@@ -47,21 +47,12 @@ struct CpuRun {
   double milliseconds = 0.0;
 };
 
-struct PresetSetup {
-  std::vector<FiberCoord> table;
-  YarnParams params{};
-};
-
-const PresetSetup& presetSetup(ValidationContext& ctx, const YarnPreset& preset) {
+const FiberSetup& presetSetup(ValidationContext& ctx, const YarnPreset& preset) {
   auto& slot = ctx.cache()["preset/" + preset.name];
-  if (!slot) {
-    auto s = std::make_shared<PresetSetup>();
-    FittedFibers f = fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
-    s->table = std::move(f.table);
-    s->params = f.params;
-    slot = s;
-  }
-  return *static_cast<PresetSetup*>(slot.get());
+  if (!slot)
+    slot = std::make_shared<FiberSetup>(
+        fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber));
+  return *static_cast<FiberSetup*>(slot.get());
 }
 
 const std::vector<FrameNormal>& cpuFrames(ValidationContext& ctx) {
@@ -134,7 +125,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   r.group = "fiber";
   r.path = spec.tessellation ? "tessellation" : "compute";
   const HarnessOptions& o = ctx.options();
-  const PresetSetup& ps = presetSetup(ctx, *spec.preset);
+  const FiberSetup& ps = presetSetup(ctx, *spec.preset);
   const YarnParams& params = ps.params;
   const Camera camera = lodCamera(ctx.model(), params, spec.lod, o.lodThresholdPx, o.lodWidth, o.lodHeight);
   const ViewParams view = makeViewParams(camera, o.lodThresholdPx, true, true);
@@ -245,6 +236,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   const StreamComparison cmp = compareStreams(cpuKept, gpuKept, params.boundRadius);
   const double posTol = positionTolerance(params, maxCoordinate);
   r.histogram = cmp.histogram;
+  r.histogramMetric = "position.max_abs";
   r.metrics = {
       exact("vertices.count_difference", std::abs(double(cmp.gpuVertices) - double(cmp.cpuVertices)),
             "both sides generate the same vertices"),
@@ -319,6 +311,7 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
       maxUnit = std::max(maxUnit, std::abs(glm::length(b) - 1.0));
       maxOrtho = std::max(maxOrtho, std::abs(glm::dot(b, glm::dvec3(knot.tangent))));
       r.histogram.add(ang);
+      r.histogramMetric = "normal.max_angle";
     }
   }
   if (g.size() != cpu.size()) throw std::runtime_error("GPU frame count differs from the CPU's");

@@ -73,15 +73,23 @@ std::string ValidationContext::saveImage(const RgbaImage& image, const std::stri
   return file;
 }
 
+std::regex parseFilter(const std::string& filter) {
+  try {
+    return std::regex(filter.empty() ? std::string(".*") : filter);
+  } catch (const std::regex_error& e) {
+    throw InputError(fmt::format("--filter: '{}' is not a valid regular expression ({})", filter, e.what()));
+  }
+}
+
 RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
+  const std::regex filter = parseFilter(options.filter);  // before any GL work
   ValidationContext ctx(options);
   std::vector<ValidationCase> cases;
   addFiberCases(ctx, cases);  // one line per algorithm
   addCloseupCases(ctx, cases);
   addKnitCases(ctx, cases);
 
-  const std::regex filter(options.filter.empty() ? std::string(".*") : options.filter);
   RunSummary summary;
   const GlInfo& gl = ctx.gl();
   log << fmt::format("fibertwin validate: {} on {} ({}, {}), model {}, yarn radius {:.4g} ({}){}\n", gl.version,

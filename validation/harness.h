@@ -27,7 +27,8 @@ struct HarnessOptions {
   std::optional<std::filesystem::path> model;  // BCC file; default: the built-in scene
   std::vector<std::string> yarns;              // preset names; empty: all
   std::string filter;                          // regex on case names; empty: all
-  std::string inject;                          // fault name (faults.h); empty: none
+  std::string inject;                          // fault name (faults.def); empty: none
+  std::string commandLine;                     // as typed, for the report
   std::filesystem::path reportDir = "fibertwin-report";
   GlBackend backend = GlBackend::Auto;
   FiberOptions fiber;
@@ -91,6 +92,9 @@ struct RunSummary {
   bool allPassed = false;
   double seconds = 0.0;
 };
+
+// The --filter regex (ECMAScript); InputError naming the option if invalid.
+std::regex parseFilter(const std::string& filter);
 
 // Runs every case whose name matches the filter; writes report.json and
 // index.html into options.reportDir.

@@ -107,7 +107,8 @@ const Solved& solved(ValidationContext& ctx, const Scenario& sc) {
 }
 
 struct GpuRun {
-  std::vector<glm::vec4> points, energies, vertices;
+  std::vector<glm::vec4> points, vertices;
+  std::vector<KnitEnergyGpu> energies;
   double ms = 0;
   std::string timing;
 };
@@ -134,28 +135,28 @@ GpuRun runGpu(ValidationContext& ctx, const KnitSetup& s) {
 std::string knitThumbnail(ValidationContext& ctx, const YarnModel& model, const std::string& stem) {
   struct Renderer {
     std::unique_ptr<FiberGpu> gpu;
-    std::vector<FiberCoord> table;
-    YarnParams params{};
+    FiberSetup fibers;
   };
   auto& slot = ctx.cache()["knit/thumbnail-renderer"];
   if (!slot) {
     auto r = std::make_shared<Renderer>();
     const YarnPreset& preset = findYarnPreset("cotton1");
-    r->table = makeFiberTable(preset, ctx.options().fiber.seed);
-    r->params = makeYarnParams(preset, r->table, FiberOptions{});
+    FiberOptions fo;  // default fibers, the run's seed
+    fo.seed = ctx.options().fiber.seed;
+    r->fibers = makeFiberSetup(preset, fo);
     r->gpu = std::make_unique<FiberGpu>(ctx.gl());
     slot = r;
   }
   Renderer& r = *static_cast<Renderer*>(slot.get());
   const HarnessOptions& o = ctx.options();
-  r.gpu->setModel(buildYarnBuffers(model), r.table);
-  r.gpu->setParams(r.params, makeViewParams(frameModel(model, glm::vec3(0.15f, -0.35f, 1.0f), o.imageWidth,
+  r.gpu->setModel(buildYarnBuffers(model), r.fibers.table);
+  r.gpu->setParams(r.fibers.params, makeViewParams(frameModel(model, glm::vec3(0.15f, -0.35f, 1.0f), o.imageWidth,
                                                        o.imageHeight),
                                             1.0f, true, true));
   return ctx.saveImage(r.gpu->renderCompute(o.imageWidth, o.imageHeight, RenderStyle{}), stem);
 }
 
-double gpuEnergy(const GpuRun& g, uint32_t tile, int k) { return g.energies[tile * 3 + k / 4][k % 4]; }
+double gpuEnergy(const GpuRun& g, uint32_t tile, int k) { return g.energies[tile].energy[k]; }
 
 void setTimes(CaseResult& r, const Solved& s, const GpuRun& g) {
   r.cpuMilliseconds = s.cpuMs;
@@ -184,6 +185,7 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) ++nonFinite;
     const double e = glm::length(p - s.cpu.worldPoints[i]);
     r.histogram.add(e);
+    r.histogramMetric = "points.max_abs";
     if (!(e <= worst)) {
       worst = e;
       worstAt = i;

@@ -90,13 +90,11 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   if (needGl) context = GlContext::create(o.backend);
   if (o.solver == "gpu") knitGpu = std::make_unique<KnitGpu>(context->info());
 
-  std::vector<FiberCoord> table;
-  YarnParams params{};
+  FiberSetup fibers;
   YarnBuffers restBuffers;
   if (!o.image.empty()) {
     FittedFibers fitted = fitFibers(preset, o.knit.yarnRadius, "the knot yarn radius", o.fiber);
-    table = std::move(fitted.table);
-    params = fitted.params;
+    fibers = fitted;
     log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fitted.fit.scale,
                        fitted.fit.radius, fitted.fit.source);
     fiberGpu = std::make_unique<FiberGpu>(context->info());
@@ -120,9 +118,8 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
       model = knitYarnModelFromVertices(setup, knitGpu->readVertices());
       const auto e = knitGpu->readEnergies();
       for (uint32_t t = 0; t < setup.tileCount(); ++t) {
-        before += e[t * 3].x;
-        const int k = o.knit.iterations;
-        after += e[t * 3 + k / 4][k % 4];
+        before += e[t].energy[0];
+        after += e[t].energy[o.knit.iterations];
       }
     } else {
       const KnitSolution sol = solveKnitCpu(setup);
@@ -156,8 +153,8 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
       }
       YarnBuffers buffers = buildYarnBuffers(model);
       adoptLengthCoordinates(buffers, restBuffers);
-      fiberGpu->setModel(buffers, table);
-      fiberGpu->setParams(params, makeViewParams(camera, 1.0f, true, true));
+      fiberGpu->setModel(buffers, fibers.table);
+      fiberGpu->setParams(fibers.params, makeViewParams(camera, 1.0f, true, true));
       RenderStyle style;
       style.lightDir = glm::normalize(glm::vec3(0.3f, 0.6f, 0.8f));
       const auto t2 = std::chrono::steady_clock::now();

@@ -16,6 +16,7 @@
 #include "scene/input_error.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_radius.h"
+#include "validation/build_info.h"
 #include "validation/faults.h"
 #include "validation/harness.h"
 #include "validation/knit_command.h"
@@ -23,11 +24,30 @@
 
 namespace {
 
+// Unsigned options take digits only: CLI11 would wrap "-1" into 4294967295.
+const CLI::Validator kUnsignedInteger(
+    [](std::string& s) {
+      return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos
+                 ? std::string()
+                 : "'" + s + "' is not a non-negative integer";
+    },
+    "");
+const CLI::Validator kPositiveInteger(
+    [](std::string& s) {
+      return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos &&
+                     s.find_first_not_of('0') != std::string::npos
+                 ? std::string()
+                 : "'" + s + "' is not a positive integer";
+    },
+    "");
+
 void addFiberOptions(CLI::App* app, ft::FiberOptions& f, bool yarnRadius = true) {
   app->add_option("--fibers-per-ply", f.regularFibersPerPly, "regular fibers drawn per ply (the rest form the core)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kUnsignedInteger);
   app->add_option("--subdivisions", f.maxSubdivisions, "cap on the line segments per fiber per yarn segment; the count follows the screen (1-64)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kUnsignedInteger);
   app->add_option("--fiber-radius", f.fiberRadius,
                   "drawn fiber half-width at the preset's own scale (scaled with the preset to the model)")
       ->capture_default_str();
@@ -35,7 +55,9 @@ void addFiberOptions(CLI::App* app, ft::FiberOptions& f, bool yarnRadius = true)
     app->add_option("--yarn-radius", f.yarnRadius,
                     "yarn radius the preset is scaled to, model units (default: estimated from the spacing of "
                     "neighbouring yarns)");
-  app->add_option("--seed", f.seed, "seed of the fiber table and fiber types")->capture_default_str();
+  app->add_option("--seed", f.seed, "seed of the fiber table and fiber types")
+      ->capture_default_str()
+      ->check(kUnsignedInteger);
 }
 
 ft::GlBackend parseBackend(const std::string& s) {
@@ -54,11 +76,22 @@ glm::vec3 parseVec3(const std::string& s, const char* option) {
   return v;
 }
 
+// For the report: the command line as one could paste it into a shell.
+std::string shellQuote(const std::string& s) {
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_=./,:+@%^") ==
+                        std::string::npos)
+    return s;
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"fibertwin — fiber-level cloth: CPU reference and GPU paths, cross-checked"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", ft::versionLine(), "print the version and the git commit it was built from");
 
   ft::HarnessOptions vo;
   std::string modelPath, yarn, backend;
@@ -71,7 +104,8 @@ int main(int argc, char** argv) {
   validate->add_option("--backend", backend, "GL backend: auto, surfaceless, device, osmesa (env FT_GL_BACKEND)");
   validate->add_option("--tess-segments", vo.tessSegmentBudget,
                        "segments in the fixed subset tessellation cases use on large models")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kPositiveInteger);
   validate->add_flag("!--no-images", vo.images, "skip the report thumbnails");
   addFiberOptions(validate, vo.fiber);
 
@@ -133,10 +167,17 @@ int main(int argc, char** argv) {
   info->add_option("--backend", backend, "GL backend");
   app.add_subcommand("faults", "list the faults --inject can plant");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; any other parse error is bad input: exit 2,
+    // before any file is read or GL context created.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   try {
     if (validate->parsed()) {
       if (!modelPath.empty()) vo.model = modelPath;
+      for (int i = 0; i < argc; ++i) vo.commandLine += (i ? " " : "") + shellQuote(argv[i]);
       vo.backend = parseBackend(backend);
       return ft::runValidation(vo, std::cout).allPassed ? 0 : 1;
     }
@@ -167,11 +208,10 @@ int main(int argc, char** argv) {
       const ft::YarnModel model = modelPath.empty() ? ft::makeDefaultScene() : ft::readBcc(modelPath);
       const ft::YarnBuffers buffers = ft::buildYarnBuffers(model);
       const ft::YarnPreset& preset = ft::findYarnPreset(yarn.empty() ? "cotton1" : yarn);
-      const ft::FittedFibers fitted = ft::fitFibers(preset, model, ro);
-      const auto& table = fitted.table;
-      const ft::YarnParams& params = fitted.params;
-      std::cout << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fitted.fit.scale,
-                               fitted.fit.radius, fitted.fit.source);
+      const ft::FittedFibers fibers = ft::fitFibers(preset, model, ro);
+      const ft::YarnParams& params = fibers.params;
+      std::cout << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fibers.fit.scale,
+                               fibers.fit.radius, fibers.fit.source);
       ft::Camera cam;
       if (distance == "frame") cam = ft::frameModel(model, parseVec3(view, "--view"), width, height);
       else if (distance == "near") cam = ft::lodCamera(model, params, ft::LodDistance::Near, 1.0f, width, height);
@@ -184,7 +224,7 @@ int main(int argc, char** argv) {
       auto ctx = ft::GlContext::create(parseBackend(backend));
       const ft::GlInfo& g = ctx->info();
       ft::FiberGpu gpu(g);
-      gpu.setModel(buffers, table);
+      gpu.setModel(buffers, fibers.table);
       gpu.setParams(params, ft::makeViewParams(cam, 1.0f, true, true));
       const auto t0 = std::chrono::steady_clock::now();
       const ft::RgbaImage img = pathName == "compute" ? gpu.renderCompute(width, height, style)

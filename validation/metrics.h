@@ -31,6 +31,7 @@ struct CaseResult {
   std::string error;           // an exception while running the case: always a failure
   std::vector<Metric> metrics;
   ErrorHistogram histogram;
+  std::string histogramMetric;  // the metric whose per-item values `histogram` bins (its tolerance is drawn)
   double cpuMilliseconds = 0.0;
   double gpuMilliseconds = 0.0;
   std::string gpuTiming;       // how gpuMilliseconds was measured

@@ -10,9 +10,7 @@ layout(local_size_x = FT_WG_KNIT) in;
 layout(std140, binding = FT_UBO_KNIT_PARAMS) uniform KnitParamsBlock { KnitSolveParams knit; };
 layout(std430, binding = FT_SSBO_KNIT_STITCHES) readonly buffer StitchBuffer { KnitStitchGpu stitches[]; };
 layout(std430, binding = FT_SSBO_KNIT_POINTS) writeonly buffer PointBuffer { vec4 points[]; };
-// Per stitch: energies before iterations 0..7 and after the last, then the
-// number of iterations that changed Θ (12 floats).
-layout(std430, binding = FT_SSBO_KNIT_ENERGY) writeonly buffer EnergyBuffer { vec4 energies[]; };
+layout(std430, binding = FT_SSBO_KNIT_ENERGY) writeonly buffer EnergyBuffer { KnitEnergyGpu energies[]; };
 uniform uint groupsX;
 
 void main() {
@@ -39,7 +37,10 @@ void main() {
     points[t * uint(FT_KNIT_TILE_POINTS) + uint(i)] =
         vec4(s.origin.xyz + p.x * s.e1.xyz + p.y * s.e2.xyz + p.z * s.normal.xyz, 1.0);
   }
-  energies[t * 3u] = vec4(r.energy[0], r.energy[1], r.energy[2], r.energy[3]);
-  energies[t * 3u + 1u] = vec4(r.energy[4], r.energy[5], r.energy[6], r.energy[7]);
-  energies[t * 3u + 2u] = vec4(r.energy[8], float(r.steps), 0.0, 0.0);
+  KnitEnergyGpu e;
+  for (int k = 0; k <= FT_KNIT_MAX_ITERATIONS; ++k) e.energy[k] = float(r.energy[k]);
+  e.steps = r.steps;
+  e.pad0 = 0u;
+  e.pad1 = 0u;
+  energies[t] = e;
 }

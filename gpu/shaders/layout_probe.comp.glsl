@@ -30,6 +30,7 @@ layout(std430, binding = FT_SSBO_DRAW_COMMAND) buffer DrawElementsCommandBuf {
 layout(std430, binding = FT_SSBO_SAMPLES) buffer YarnSampleBuf { YarnSample data[]; } samples;
 layout(std140, binding = FT_UBO_KNIT_PARAMS) uniform KnitParamsBlock { KnitSolveParams knit; };
 layout(std430, binding = FT_SSBO_KNIT_STITCHES) buffer KnitStitchGpuBuf { KnitStitchGpu data[]; } knitStitches;
+layout(std430, binding = FT_SSBO_KNIT_ENERGY) buffer KnitEnergyGpuBuf { KnitEnergyGpu data[]; } knitEnergies;
 layout(std430, binding = FT_SSBO_KNIT_POINTS) buffer KnitParamsCopyBuf { KnitSolveParams knitCopy; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
@@ -49,5 +50,6 @@ void main() {
   paramsCopy.yarnCopy = yarn;
   paramsCopy.viewCopy = view;
   knitStitches.data[1] = knitStitches.data[0];
+  knitEnergies.data[1] = knitEnergies.data[0];
   knitCopy = knit;
 }

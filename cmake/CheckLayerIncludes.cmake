@@ -1,0 +1,47 @@
+# cmake -DCXX=c++ -DPROBES=dir -DINCLUDES_<target>=a|b|c ... -DCASES=probe:target:fail|pass,...
+#       -P CheckLayerIncludes.cmake
+# Compiles (syntax only) each probe of tests/layer_probes/ with the include
+# directories the named library really compiles with (transitive, from
+# $<TARGET_PROPERTY:...,INCLUDE_DIRECTORIES>). A "fail" probe must fail for the
+# forbidden header being missing, not for any other reason; a "pass" probe
+# must compile, so the roots are not simply broken.
+string(REPLACE "," ";" cases "${CASES}")
+set(bad "")
+foreach(c IN LISTS cases)
+  string(REPLACE ":" ";" parts "${c}")
+  list(GET parts 0 probe)
+  list(GET parts 1 target)
+  list(GET parts 2 expect)
+  string(REPLACE "|" ";" dirs "${INCLUDES_${target}}")
+  if(NOT dirs)
+    message(FATAL_ERROR "no include directories passed for ${target}")
+  endif()
+  set(args -std=c++20 -fsyntax-only)
+  foreach(d IN LISTS dirs)
+    list(APPEND args -I${d})
+  endforeach()
+  execute_process(COMMAND ${CXX} ${args} ${PROBES}/${probe}.cpp RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                  ERROR_VARIABLE out)
+  file(STRINGS ${PROBES}/${probe}.cpp first REGEX "^#include \"" LIMIT_COUNT 1)
+  string(REGEX MATCH "\"([^\"]+)\"" _ "${first}")
+  set(header ${CMAKE_MATCH_1})
+  if(expect STREQUAL "fail")
+    if(rc EQUAL 0)
+      list(APPEND bad "${probe}: compiled with ${target}'s include roots, but ${header} must not be visible there")
+    elseif(NOT out MATCHES "${header}: No such file or directory")
+      list(APPEND bad "${probe}: failed, but not because ${header} is missing:\n${out}")
+    else()
+      message(STATUS "${probe}: ${header} is not visible to ${target} (as required)")
+    endif()
+  else()
+    if(NOT rc EQUAL 0)
+      list(APPEND bad "${probe}: does not compile with ${target}'s include roots:\n${out}")
+    else()
+      message(STATUS "${probe}: compiles with ${target}'s include roots")
+    endif()
+  endif()
+endforeach()
+if(bad)
+  string(REPLACE ";" "\n" bad "${bad}")
+  message(FATAL_ERROR "${bad}")
+endif()
