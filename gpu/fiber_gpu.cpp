@@ -88,7 +88,7 @@ FiberGpu::~FiberGpu() {
   for (GLuint p : {framesProgram_, decideProgram_, ownersProgram_, samplesProgram_, scanProgram_, generateProgram_, tessCaptureProgram_,
                    tessDrawProgram_, stripDrawProgram_})
     if (p) glDeleteProgram(p);
-  GLuint buffers[] = {yarnUbo_, viewUbo_, points_, curves_, segments_, frames_, table_,
+  GLuint buffers[] = {yarnUbo_, viewUbo_, points_, curves_, segments_, frames_, frameCarry_, table_,
                       list_,    decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_};
   glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
   if (vao_) glDeleteVertexArrays(1, &vao_);
@@ -120,6 +120,7 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
   replaceBuffer(segments_, yarn.segments.size() * sizeof(SegmentRef), yarn.segments.data());
   replaceBuffer(table_, fiberTable.size_bytes(), fiberTable.data());
   replaceBuffer(frames_, yarn.knotCount * sizeof(FrameNormal));
+  replaceBuffer(frameCarry_, yarn.curves.size() * sizeof(glm::vec4));
   curveCount_ = yarn.curves.size();
   segmentCount_ = yarn.segments.size();
   knotCount_ = yarn.knotCount;
@@ -127,9 +128,29 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
   setSegmentList({});
 
   bindCommon();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_CARRY, frameCarry_);
   glUseProgram(framesProgram_);
-  setUint(framesProgram_, "curveCount", static_cast<uint32_t>(curveCount_));
-  dispatchFlat(framesProgram_, curveCount_, FT_WG_FRAMES, "yarn_frames");
+  // One dispatch per FT_FRAME_CHUNK knots of the longest curve (gallivm ends a
+  // loop after 65,535 iterations), then the closed-loop correction.
+  uint32_t longest = 0;
+  bool anyClosed = false;
+  for (const CurveInfo& c : yarn.curves) {
+    longest = std::max(longest, ftCurveSegmentCount(c));
+    anyClosed = anyClosed || c.closed != 0u;
+  }
+  const uint32_t chunks = (longest + FT_FRAME_CHUNK - 1) / FT_FRAME_CHUNK;
+  setUint(framesProgram_, "mode", 0u);
+  setUint(framesProgram_, "itemCount", static_cast<uint32_t>(curveCount_));
+  for (uint32_t chunk = 0; chunk < chunks; ++chunk) {
+    setUint(framesProgram_, "chunk", chunk);
+    dispatchFlat(framesProgram_, curveCount_, FT_WG_FRAMES, "yarn_frames");
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  if (anyClosed) {
+    setUint(framesProgram_, "mode", 1u);
+    setUint(framesProgram_, "itemCount", static_cast<uint32_t>(segmentCount_));
+    dispatchFlat(framesProgram_, segmentCount_, FT_WG_FRAMES, "yarn_frames (closed loops)");
+  }
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 

@@ -100,6 +100,7 @@ class FiberGpu {
   GLuint captureFbo_ = 0;  // attachment-less: surfaceless contexts have no default framebuffer
   GLuint yarnUbo_ = 0, viewUbo_ = 0;
   GLuint points_ = 0, curves_ = 0, segments_ = 0, frames_ = 0, table_ = 0, list_ = 0;
+  GLuint frameCarry_ = 0;  // per curve: the normal carried between frame chunks, the holonomy
   GLuint decisions_ = 0, offsets_ = 0, samples_ = 0, stripOwners_ = 0, sampleOwners_ = 0, vertices_ = 0, indices_ = 0, draw_ = 0, xfb_ = 0;
   size_t curveCount_ = 0, segmentCount_ = 0, knotCount_ = 0, listCount_ = 0, inputBytes_ = 0;
   size_t pendingStrips_ = 0, pendingSamples_ = 0, sampleCapacity_ = 0, stripCapacity_ = 0, vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;

@@ -307,14 +307,12 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
   for (size_t ci = 0; ci < y.curves.size(); ++ci) {
     const CurveInfo& c = y.curves[ci];
     for (uint32_t k = 0; k < ftCurveKnotCount(c); ++k) {
-      const uint32_t segment = c.firstSegment + std::min(k, ftCurveSegmentCount(c) - 1);
-      const YarnSegment seg = loadSegmentCpu(y, cpu, segment);
-      const Knot knot = k < ftCurveSegmentCount(c) ? ftSegmentStartKnot(seg) : ftSegmentEndKnot(seg);
+      const Knot knot = knotCpu(y, c, k);
       const glm::dvec3 a(glm::vec3(cpu[c.frameBase + k].normal)), b(glm::vec3(g[c.frameBase + k].normal));
       const double ang = std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
       maxAngle = std::max(maxAngle, ang);
       maxUnit = std::max(maxUnit, std::abs(glm::length(b) - 1.0));
-      maxOrtho = std::max(maxOrtho, std::abs(glm::dot(b, glm::dvec3(knot.tangent))));
+      maxOrtho = std::max(maxOrtho, std::abs(glm::dot(b, glm::dvec3(ftKnotAxis(knot)))));
       r.histogram.add(ang);
     }
   }
