@@ -45,6 +45,21 @@
 #include "prelude.h"
 #include "yarn_curve.h"
 
+// Planted fault "tangent-fallback" (validation/faults.h): the zero-tangent
+// fallback dropped, as before issue 8. It lives in shared math, so it must
+// act on both sides: the C++ side switches it at run time (the harness sets
+// ftFaultTangentFallback for --inject), the GLSL side at compile time.
+#ifdef __cplusplus
+namespace ft {
+inline bool ftFaultTangentFallback = false;
+}
+#define FT_FAULT_TANGENT_FALLBACK_ON ::ft::ftFaultTangentFallback
+#elif defined(FT_FAULT_TANGENT_FALLBACK)
+#define FT_FAULT_TANGENT_FALLBACK_ON true
+#else
+#define FT_FAULT_TANGENT_FALLBACK_ON false
+#endif
+
 FT_NAMESPACE_BEGIN
 
 // Any unit vector ⟂ n, continuous except where n.z changes sign.
@@ -98,6 +113,7 @@ FT_FUNC bool ftNegligible(vec3 d, vec3 chord) {
 FT_FUNC vec3 ftSegmentStartTangent(YarnSegment s) {
   vec3 chord = vec3(s.b3) - vec3(s.b0);
   vec3 d = ftBezierDerivative(s, 0.0f);
+  if (FT_FAULT_TANGENT_FALLBACK_ON) return ftNormalize(d);  // 0/0 = NaN at a back-track
   if (ftNegligible(d, chord)) d = vec3(s.b2) - vec3(s.b0);
   if (ftNegligible(d, chord)) d = chord;
   return ftNormalize(d);
@@ -106,6 +122,7 @@ FT_FUNC vec3 ftSegmentStartTangent(YarnSegment s) {
 FT_FUNC vec3 ftSegmentEndTangent(YarnSegment s) {
   vec3 chord = vec3(s.b3) - vec3(s.b0);
   vec3 d = ftBezierDerivative(s, 1.0f);
+  if (FT_FAULT_TANGENT_FALLBACK_ON) return ftNormalize(d);
   if (ftNegligible(d, chord)) d = vec3(s.b3) - vec3(s.b1);
   if (ftNegligible(d, chord)) d = chord;
   return ftNormalize(d);
@@ -115,6 +132,7 @@ FT_FUNC vec3 ftSegmentEndTangent(YarnSegment s) {
 // degenerate control polygon has one) falls back to the chord.
 FT_FUNC vec3 ftTangentAt(YarnSegment s, float t) {
   vec3 d = ftBezierDerivative(s, t);
+  if (FT_FAULT_TANGENT_FALLBACK_ON) return ftNormalize(d);
   if (!ftNegligible(d, vec3(s.b3) - vec3(s.b0))) return ftNormalize(d);
   if (t <= 0.0f) return ftSegmentStartTangent(s);
   if (t >= 1.0f) return ftSegmentEndTangent(s);

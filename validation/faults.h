@@ -4,6 +4,8 @@
 #pragma once
 #include <string_view>
 
+#include "common/yarn_frame.h"
+
 namespace ft {
 
 struct Fault {
@@ -13,6 +15,8 @@ struct Fault {
   const char* caughtBy;     // metric expected to fail
   const char* paths;        // CaseResult::path values that must each fail a case, comma-separated
   const char* filter;       // the cases that can see it (regex; "" = all), to keep fault runs short
+  const char* model = nullptr;  // BCC (path from the repository root) the fault shows on; nullptr: built-in scene
+  bool shared = false;          // lives in common/: planted on the CPU side too (at run time), not only the GPU's
 };
 
 inline constexpr const char* kFiberPaths = "tessellation,compute";
@@ -48,7 +52,20 @@ inline constexpr Fault kFaults[] = {
     {"knit-no-safeguard", "FT_FAULT_KNIT_NO_SAFEGUARD",
      "Gauss-Newton steps taken even when they raise eq. 3 (common/knit_solver.h)", "gpu.energy_rises", "knit",
      "^knit/"},
+    {"closure-axis", "FT_FAULT_CLOSURE_AXIS",
+     "GPU closed-loop frame pass rotates about tangent - tangentIn at every knot: NaN off cusps "
+     "(gpu/shaders/yarn_frames.comp.glsl)",
+     "nonfinite.gpu", kFiberPaths, "^(fiber|frames)/"},
+    {"tangent-fallback", "FT_FAULT_TANGENT_FALLBACK",
+     "zero-tangent fallback dropped on both sides: NaN frames after a back-track (common/yarn_frame.h)",
+     "nonfinite.cpu", kFiberPaths, "^(fiber|frames)/", "tests/edge_corpus/edges.bcc", true},
 };
+
+// Switches a shared fault's CPU side (the GPU side is the define); the
+// harness turns it on for its run and off again when the run ends.
+inline void setSharedFault(std::string_view define, bool on) {
+  if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
+}
 
 inline const Fault* findFault(std::string_view name) {
   for (const Fault& f : kFaults)

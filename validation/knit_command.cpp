@@ -1,5 +1,7 @@
 #include "validation/knit_command.h"
 
+#include "validation/draw_check.h"
+
 #include <fmt/format.h>
 
 #include <chrono>
@@ -153,6 +155,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
       YarnBuffers buffers = buildYarnBuffers(model);
       adoptLengthCoordinates(buffers, restBuffers);
       fiberGpu->setModel(buffers, table);
+      checkBeforeDrawing(model.name, buffers, fiberGpu->readFrames());  // no partial image from NaN frames
       fiberGpu->setParams(params, makeViewParams(camera, 1.0f, true, true));
       RenderStyle style;
       style.lightDir = glm::normalize(glm::vec3(0.3f, 0.6f, 0.8f));

@@ -62,8 +62,12 @@ void closeLoop(uint segment) {
   if (c.closed == 0u || ref.local == 0u) return;
   Knot kk = curveKnot(c, ref.local);
   vec3 n = vec3(frames[c.frameBase + ref.local].normal);
-  frames[c.frameBase + ref.local].normal =
-      vec4(ftCloseFrame(n, ftKnotAxis(kk), carry[ref.curve].w, kk.s, c.totalLength), 0.0f);
+#ifdef FT_FAULT_CLOSURE_AXIS
+  vec3 axis = ftNormalize(kk.tangent - kk.tangentIn);  // the back-track axis at every knot: 0/0 off cusps
+#else
+  vec3 axis = ftKnotAxis(kk);
+#endif
+  frames[c.frameBase + ref.local].normal = vec4(ftCloseFrame(n, axis, carry[ref.curve].w, kk.s, c.totalLength), 0.0f);
 }
 
 void main() {
