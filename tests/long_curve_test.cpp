@@ -1,6 +1,6 @@
 // GPU frames for curves of any length (issue 8): Mesa's gallivm ends a loop
 // after 65,535 iterations, so the frame kernel runs in chunks of
-// FT_FRAME_CHUNK knots. A 200,000-point closed curve (24 chunks, holonomy
+// FT_FRAME_CHUNK knots. A 200,000-point closed curve (25 chunks, holonomy
 // spread over all of them) must validate against the CPU reference, and its
 // corrected frame must close: no jump between consecutive knots, at the chunk
 // boundaries and at the seam, beyond what the curve's own turning explains.
