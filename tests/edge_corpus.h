@@ -110,6 +110,12 @@ inline YarnModel edgeCorpus() {
     m.curves.push_back(openCurve({lane(11), lane(11) + glm::vec3(0.2f, 0.05f, 0.0f)}));
     m.curves.push_back(openCurve({lane(12), lane(12) + glm::vec3(0.0f, 0.2f, 0.0f)}));
   }
+  {  // 13: a cusp whose one-sided tangents are less than 90° apart (the minimal-rotation
+     // branch): long legs before and after a short back-and-forth (P3 == P1)
+    const glm::vec3 b = lane(13) + glm::vec3(0.3f, 0.0f, 0.0f);
+    m.curves.push_back(openCurve({b + glm::vec3(0.0f, 0.6f, 0.0f), b, b + glm::vec3(0.01f, 0.0f, 0.0f), b,
+                                  b + glm::vec3(0.0f, -0.6f, 0.0f), b + glm::vec3(0.05f, -0.7f, 0.0f)}));
+  }
   return m;
 }
 

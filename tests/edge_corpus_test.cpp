@@ -115,13 +115,14 @@ TEST(EdgeCorpus, FramesAreDefinedAtEveryKnot) {
     const YarnModel m = make();
     const YarnBuffers y = buildYarnBuffers(m);
     const std::vector<FrameNormal> frames = computeKnotFramesCpu(y);
-    size_t cusps = 0;
+    size_t cusps = 0, acute = 0;
     for (size_t ci = 0; ci < y.curves.size(); ++ci) {
       const CurveInfo& c = y.curves[ci];
       for (uint32_t k = 0; k < ftCurveKnotCount(c); ++k) {
         const Knot knot = knotCpu(y, c, k);
         const vec3 n = vec3(frames[c.frameBase + k].normal);
         cusps += knot.cusp;
+        acute += knot.cusp && glm::dot(knot.tangentIn, knot.tangent) >= 0.0f;
         ASSERT_TRUE(finite(n)) << m.name << " curve " << ci << " knot " << k;
         EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f) << m.name << " curve " << ci << " knot " << k;
         // Both tangents are unit and the stored normal is at most 45° from ⟂
@@ -147,6 +148,11 @@ TEST(EdgeCorpus, FramesAreDefinedAtEveryKnot) {
     // Every back-track of the points is a cusp of the frames, and nothing else is.
     EXPECT_EQ(cusps, countBackTracks(m)) << m.name;
     EXPECT_GT(cusps, 0u) << m.name;
+    // Both branches of the cusp turn are exercised (edges.bcc curve 13 is the < 90° one).
+    if (m.name == "edges") {
+      EXPECT_GT(acute, 0u);
+      EXPECT_GT(cusps - acute, 0u);
+    }
   }
 }
 

@@ -312,13 +312,14 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
   r.gpuTiming = "glFinish+steady_clock (includes upload)";
   if (g.size() != cpu.size()) throw std::runtime_error("GPU frame count differs from the CPU's");
   double maxAngle = 0.0, maxUnit = 0.0, maxOrtho = 0.0;
-  uint64_t cpuNonFinite = 0, gpuNonFinite = 0;
+  uint64_t cpuNonFinite = 0, gpuNonFinite = 0, cusps = 0;
   std::string firstNonFinite;
   const YarnBuffers& y = ctx.buffers();
   for (size_t ci = 0; ci < y.curves.size(); ++ci) {
     const CurveInfo& c = y.curves[ci];
     for (uint32_t k = 0; k < ftCurveKnotCount(c); ++k) {
       const Knot knot = knotCpu(y, c, k);
+      cusps += knot.cusp;
       const glm::dvec3 a(glm::vec3(cpu[c.frameBase + k].normal)), b(glm::vec3(g[c.frameBase + k].normal));
       const bool aBad = !std::isfinite(glm::dot(a, a)), bBad = !std::isfinite(glm::dot(b, b));
       cpuNonFinite += aBad;
@@ -344,6 +345,8 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
       nonFiniteMetric("cpu", cpuNonFinite, "CPU knot normals"),
       nonFiniteMetric("gpu", gpuNonFinite, "GPU knot normals"),
       Metric{"knots", double(cpu.size()), 0.0, "count", "frames compared", false},
+      Metric{"knots.cusps", double(cusps), 0.0, "count",
+             "knots with a zero tangent (exact back-tracks): the fallback of common/yarn_frame.h", false},
   };
   r.details = firstNonFinite;
   r.finish();
