@@ -31,9 +31,15 @@
 #define FT_SSBO_KNIT_ENERGY 17
 #define FT_SSBO_KNIT_YARN_LIST 18
 #define FT_SSBO_KNIT_VERTICES 19
+#define FT_SSBO_FRAME_CARRY 20
 
 // Work-group sizes (local_size_x).
 #define FT_WG_FRAMES 64
+
+// Knots one invocation of the frame kernel propagates per dispatch: Mesa's
+// gallivm ends any loop after 65,535 iterations, so longer curves are done in
+// several dispatches that carry the normal across (yarn_frames.comp.glsl).
+#define FT_FRAME_CHUNK 8192u
 #define FT_WG_DECIDE 64
 #define FT_WG_SCAN 1024
 #define FT_WG_GENERATE 64

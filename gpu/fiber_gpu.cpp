@@ -107,6 +107,7 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
   replaceBuffer(segments_, yarn.segments.size() * sizeof(SegmentRef), yarn.segments.data());
   replaceBuffer(table_, fiberTable.size_bytes(), fiberTable.data());
   replaceBuffer(frames_, yarn.knotCount * sizeof(FrameNormal));
+  replaceBuffer(frameCarry_, yarn.curves.size() * sizeof(glm::vec4));
   curveCount_ = yarn.curves.size();
   segmentCount_ = yarn.segments.size();
   knotCount_ = yarn.knotCount;
@@ -114,9 +115,29 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
   setSegmentList({});
 
   bindCommon();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_CARRY, frameCarry_.id());
   glUseProgram(framesProgram_.id());
-  setUint(framesProgram_.id(), "curveCount", static_cast<uint32_t>(curveCount_));
-  dispatchFlat(framesProgram_.id(), curveCount_, FT_WG_FRAMES, "yarn_frames");
+  // One dispatch per FT_FRAME_CHUNK knots of the longest curve (gallivm ends a
+  // loop after 65,535 iterations), then the closed-loop correction.
+  uint32_t longest = 0;
+  bool anyClosed = false;
+  for (const CurveInfo& c : yarn.curves) {
+    longest = std::max(longest, ftCurveSegmentCount(c));
+    anyClosed = anyClosed || c.closed != 0u;
+  }
+  const uint32_t chunks = (longest + FT_FRAME_CHUNK - 1) / FT_FRAME_CHUNK;
+  setUint(framesProgram_.id(), "mode", 0u);
+  setUint(framesProgram_.id(), "itemCount", static_cast<uint32_t>(curveCount_));
+  for (uint32_t chunk = 0; chunk < chunks; ++chunk) {
+    setUint(framesProgram_.id(), "chunk", chunk);
+    dispatchFlat(framesProgram_.id(), curveCount_, FT_WG_FRAMES, "yarn_frames");
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  if (anyClosed) {
+    setUint(framesProgram_.id(), "mode", 1u);
+    setUint(framesProgram_.id(), "itemCount", static_cast<uint32_t>(segmentCount_));
+    dispatchFlat(framesProgram_.id(), segmentCount_, FT_WG_FRAMES, "yarn_frames (closed loops)");
+  }
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 

@@ -101,6 +101,7 @@ class FiberGpu {
   Framebuffer captureFbo_;  // attachment-less: surfaceless contexts have no default framebuffer
   Buffer yarnUbo_, viewUbo_;
   Buffer points_, curves_, segments_, frames_, table_, list_;
+  Buffer frameCarry_;  // per curve: the normal carried between frame chunks, the holonomy
   Buffer decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_;
   size_t curveCount_ = 0, segmentCount_ = 0, knotCount_ = 0, listCount_ = 0, inputBytes_ = 0;
   size_t pendingStrips_ = 0, pendingSamples_ = 0, sampleCapacity_ = 0, stripCapacity_ = 0, vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;

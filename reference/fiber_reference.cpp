@@ -21,30 +21,39 @@ YarnSegment fetchSegment(const YarnBuffers& yarn, const CurveInfo& c, uint32_t l
 
 }  // namespace
 
+Knot knotCpu(const YarnBuffers& yarn, const CurveInfo& c, uint32_t k) {
+  return ftCurveKnot(c, k, fetchSegment(yarn, c, ftKnotSegmentBefore(c, k)),
+                     fetchSegment(yarn, c, ftKnotSegmentAfter(c, k)));
+}
+
 std::vector<FrameNormal> computeKnotFramesCpu(const YarnBuffers& yarn) {
   std::vector<FrameNormal> frames(yarn.knotCount, FrameNormal{glm::vec4(0.0f)});
   tbb::parallel_for(size_t(0), yarn.curves.size(), [&](size_t ci) {
-    // Mirrors gpu/shaders/yarn_frames.comp.glsl line by line.
+    // Mirrors gpu/shaders/yarn_frames.comp.glsl statement by statement (the
+    // GPU splits the loop into chunks; the values are the same).
     const CurveInfo c = yarn.curves[ci];
     const uint32_t segments = ftCurveSegmentCount(c);
-    Knot k0 = ftSegmentStartKnot(fetchSegment(yarn, c, 0));
-    vec3 r = ftPerpendicular(k0.tangent);
-    frames[c.frameBase].normal = vec4(r, 0.0f);
-    Knot prev = k0;
+    YarnSegment after = fetchSegment(yarn, c, ftKnotSegmentAfter(c, 0));
+    Knot a = ftCurveKnot(c, 0, fetchSegment(yarn, c, ftKnotSegmentBefore(c, 0)), after);
+    const Knot k0 = a;
+    vec3 r = ftStartNormal(a);
+    frames[c.frameBase].normal = vec4(ftStoredFromLeaving(a, r), 0.0f);
     for (uint32_t k = 0; k < segments; ++k) {
-      Knot next = k + 1 < segments ? ftSegmentStartKnot(fetchSegment(yarn, c, k + 1))
-                                   : ftLastKnot(c, k0, fetchSegment(yarn, c, k));
-      r = ftRmfStep(prev.position, prev.tangent, r, next.position, next.tangent);
-      if (k + 1 < ftCurveKnotCount(c)) frames[c.frameBase + k + 1].normal = vec4(r, 0.0f);
-      prev = next;
+      const YarnSegment before = after;
+      after = fetchSegment(yarn, c, ftKnotSegmentAfter(c, k + 1));
+      const Knot b = ftCurveKnot(c, k + 1, before, after);
+      const FrameStep f = ftCarryFrame(a, r, b);
+      if (k + 1 < ftCurveKnotCount(c)) frames[c.frameBase + k + 1].normal = vec4(f.stored, 0.0f);
+      r = f.leaving;
+      a = b;
     }
     if (c.closed != 0u) {
       // r is now the start normal carried once around the loop.
-      const float holonomy = ftSignedAngle(r, vec3(frames[c.frameBase].normal), k0.tangent);
+      const float holonomy = ftSignedAngle(r, ftStartNormal(k0), k0.tangent);
       for (uint32_t k = 1; k < segments; ++k) {
-        Knot kk = ftSegmentStartKnot(fetchSegment(yarn, c, k));
-        frames[c.frameBase + k].normal =
-            vec4(ftCloseFrame(vec3(frames[c.frameBase + k].normal), kk.tangent, holonomy, kk.s, c.totalLength), 0.0f);
+        const Knot kk = knotCpu(yarn, c, k);
+        frames[c.frameBase + k].normal = vec4(
+            ftCloseFrame(vec3(frames[c.frameBase + k].normal), ftKnotAxis(kk), holonomy, kk.s, c.totalLength), 0.0f);
       }
     }
   });

@@ -5,7 +5,7 @@
 #include <span>
 #include <vector>
 
-#include "common/yarn_curve.h"
+#include "common/yarn_frame.h"
 #include "scene/fiber_input.h"
 
 namespace ft {
@@ -13,6 +13,9 @@ namespace ft {
 // Rotation-minimizing knot normals of every curve (common/yarn_frame.h),
 // TBB over curves.
 std::vector<FrameNormal> computeKnotFramesCpu(const YarnBuffers& yarn);
+
+// Knot k of curve c (0 <= k <= segments), as the frame propagation sees it.
+Knot knotCpu(const YarnBuffers& yarn, const CurveInfo& c, uint32_t k);
 
 // Segment `segment` in Bézier form with its knot normals filled in.
 YarnSegment loadSegmentCpu(const YarnBuffers& yarn, std::span<const FrameNormal> frames, uint32_t segment);

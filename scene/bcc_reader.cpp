@@ -6,6 +6,7 @@
 // only returned once the whole file has been checked.
 #include "scene/bcc_reader.h"
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <system_error>
 
 #include "scene/input_error.h"
+#include "scene/yarn_model.h"
 
 namespace ft {
 namespace {
@@ -27,8 +29,10 @@ static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559);
 
 constexpr size_t kHeaderSize = 64;
 constexpr uint8_t kByteCounts = 0x44;  // 4-byte integers, 4-byte floats
-// Smallest curve a valid file can hold: int32 count + 2 points (open curve).
-constexpr size_t kMinCurveBytes = 4 + 2 * 12;
+// Smallest curve record: its int32 point count. Bounding the header's curve
+// count by this (not by the 28 bytes of a valid 2-point curve) lets a short
+// curve reach its own check, whose message names it.
+constexpr size_t kMinCurveBytes = 4;
 
 [[noreturn]] void fail(std::string_view source, uint64_t offset, const std::string& what) {
   std::ostringstream s;
@@ -61,6 +65,13 @@ std::string hexByte(uint8_t v) {
 std::string formatFloat(float v) {
   std::ostringstream s;
   s.precision(9);
+  s << v;
+  return s.str();
+}
+
+std::string formatDouble(double v) {
+  std::ostringstream s;
+  s.precision(3);
   s << v;
   return s.str();
 }
@@ -114,7 +125,7 @@ YarnModel parseBcc(std::span<const std::byte> bytes, std::string_view sourceName
     fail(sourceName, 8,
          "curve count " + std::to_string(curveCount) + " exceeds what the " + std::to_string(body) +
              "-byte body can hold (at most " + std::to_string(body / kMinCurveBytes) +
-             " curves of >= 2 points; file truncated, or the count is corrupt)");
+             " curve records; file truncated, or the count is corrupt)");
   }
   const size_t pointBytes = body - 4 * curveCount;
   if (pointCount > pointBytes / 12) {
@@ -130,7 +141,7 @@ YarnModel parseBcc(std::span<const std::byte> bytes, std::string_view sourceName
 
   YarnModel model;
   model.name = std::string(sourceName);
-  model.curves.reserve(curveCount);
+  model.curves.reserve(std::min<uint64_t>(curveCount, body / (4 + 2 * 12)));  // valid curves take >= 28 bytes
   uint64_t pointSum = 0;
   size_t off = kHeaderSize;
   for (uint64_t c = 0; c < curveCount; ++c) {
@@ -186,6 +197,11 @@ YarnModel parseBcc(std::span<const std::byte> bytes, std::string_view sourceName
                curveTag + "point " + std::to_string(i) + ": coordinate " + "xyz"[k] + " is " +
                    formatFloat(xyz[k]) + " (non-finite)");
         }
+        if (std::abs(xyz[k]) > kMaxCoordinate) {
+          fail(sourceName, pointOffset + 4 * k,
+               curveTag + "point " + std::to_string(i) + ": coordinate " + "xyz"[k] + " is " + formatFloat(xyz[k]) +
+                   " (beyond ±1e18: too large for float32 frame arithmetic)");
+        }
       }
       // z-up files are rotated to y-up: (x, y, z) -> (x, z, -y).
       const glm::vec3 p = zUp ? glm::vec3(xyz[0], xyz[2], -xyz[1]) : glm::vec3(xyz[0], xyz[1], xyz[2]);
@@ -194,6 +210,15 @@ YarnModel parseBcc(std::span<const std::byte> bytes, std::string_view sourceName
         fail(sourceName, pointOffset,
              curveTag + "point " + std::to_string(i) + " " + formatPoint({xyz[0], xyz[1], xyz[2]}) +
                  " coincides with point " + std::to_string(i - 1));
+      }
+      if (i > 0) {
+        const double d = glm::distance(glm::dvec3(p), glm::dvec3(curve.points[i - 1]));
+        if (d < kMinPointSpacing) {
+          fail(sourceName, pointOffset,
+               curveTag + "point " + std::to_string(i) + " " + formatPoint({xyz[0], xyz[1], xyz[2]}) + " is " +
+                   formatDouble(d) + " from point " + std::to_string(i - 1) +
+                   " (spacing below 1e-12: too small for float32 frame arithmetic)");
+        }
       }
       curve.points[i] = p;
     }
@@ -208,7 +233,17 @@ YarnModel parseBcc(std::span<const std::byte> bytes, std::string_view sourceName
       }
     }
     // No zero-length wrap segment remains: the dropped copy differed from its
-    // predecessor, so the new last point differs from the first.
+    // predecessor, so the new last point differs from the first; but it may
+    // lie closer than the spacing limit.
+    if (closed) {
+      const double d = glm::distance(glm::dvec3(curve.points.back()), glm::dvec3(curve.points.front()));
+      if (d < kMinPointSpacing) {
+        const size_t last = curve.points.size() - 1;
+        fail(sourceName, off + last * 12,
+             curveTag + "point " + std::to_string(last) + " is " + formatDouble(d) +
+                 " from point 0, which closes the loop (spacing below 1e-12: too small for float32 frame arithmetic)");
+      }
+    }
     off += size_t{n} * 12;
     model.curves.push_back(std::move(curve));
   }

@@ -29,6 +29,10 @@ YarnBuffers buildYarnBuffers(const YarnModel& model) {
       const glm::vec3& p = curve.points[i];
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
         fail(fmt::format("point {} is not finite ({}, {}, {})", i, p.x, p.y, p.z));
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(p[k]) > kMaxCoordinate)
+          fail(fmt::format("point {}: coordinate {} is {} (beyond ±{:g}, too large for float32 frames)", i, "xyz"[k],
+                           p[k], kMaxCoordinate));
     }
     CurveInfo info{};
     info.firstPoint = static_cast<uint32_t>(out.points.size());
@@ -44,6 +48,9 @@ YarnBuffers buildYarnBuffers(const YarnModel& model) {
       if (i > 0) {
         double d = glm::distance(glm::dvec3(curve.points[i - 1]), glm::dvec3(curve.points[i]));
         if (!(d > 0.0)) fail(fmt::format("points {} and {} coincide", i - 1, i));
+        if (d < kMinPointSpacing)
+          fail(fmt::format("point {} is {:g} from point {} (spacing below {:g}, too small for float32 frames)", i, d,
+                           i - 1, kMinPointSpacing));
         s += d;
       }
       out.points.push_back(ControlPoint{glm::vec4(curve.points[i], static_cast<float>(s))});
@@ -51,6 +58,9 @@ YarnBuffers buildYarnBuffers(const YarnModel& model) {
     if (curve.closed) {
       double d = glm::distance(glm::dvec3(curve.points[n - 1]), glm::dvec3(curve.points[0]));
       if (!(d > 0.0)) fail(fmt::format("points {} and 0 coincide (closed curve)", n - 1));
+      if (d < kMinPointSpacing)
+        fail(fmt::format("point {} is {:g} from point 0 (closed curve; spacing below {:g}, too small for float32 "
+                         "frames)", n - 1, d, kMinPointSpacing));
       s += d;
     }
     info.totalLength = static_cast<float>(s);

@@ -33,8 +33,18 @@ struct YarnBuffers {
   }
 };
 
+// Limits of what float32 frame and fiber arithmetic handles (README "Inputs
+// and bad input"): squared differences of coordinates up to kMaxCoordinate
+// (<= 12·1e36) stay below FLT_MAX (3.4e38) with room for the reflections'
+// 2/c factors; consecutive points at least kMinPointSpacing apart keep their
+// squared distance (>= 1e-24) and the tangent test's 1e-12 of it
+// (common/yarn_frame.h) far above FLT_MIN (1.2e-38), where the GPU flushes
+// denormals to zero and the CPU does not.
+inline constexpr float kMaxCoordinate = 1e18f;
+inline constexpr double kMinPointSpacing = 1e-12;
+
 // Checks the model (every curve evaluable: enough points, finite, no
-// coincident consecutive points) and flattens it. Throws InputError naming
+// coincident consecutive points, the limits above) and flattens it. Throws InputError naming
 // model.name, the curve and the point.
 YarnBuffers buildYarnBuffers(const YarnModel& model);
 

@@ -20,7 +20,8 @@ ctest --preset release -j "$jobs"
 
 echo "== AddressSanitizer + UBSan: input handling, GPU host code, the harness"
 cmake --preset asan
-cmake --build --preset asan --target bcc_reader_test yarn_preset_test yarn_radius_test stitch_mesh_test knit_solver_test knit_gpu_test fiber_gpu_test fibertwin
+cmake --build --preset asan --target bcc_reader_test yarn_preset_test yarn_radius_test stitch_mesh_test knit_solver_test knit_gpu_test fiber_gpu_test fibertwin \
+  edge_corpus_test draw_check_test
 # Leak checking is off: Mesa's driver keeps allocations alive until exit.
 ASAN_OPTIONS=detect_leaks=0 ctest --preset asan -L "input|asan" -j "$jobs"
 

@@ -147,6 +147,18 @@ for f in "${bad_files[@]}"; do
   expect_absent "render --model $base (no image)" "$TMP/x.png"
 done
 
+# ---- what float32 cannot carry, and short curves: named by curve and point ----
+# (issue 8; the files are written by tests/edge_corpus_test.cpp from tests/edge_corpus.h)
+run_case "validate --model bad-huge-coordinate.bcc" 2 "curve 1: point 2: coordinate x" "e+30" "1e18" -- \
+  validate --model "$CORPUS/bad-huge-coordinate.bcc" --no-images --report "$TMP/report"
+run_case "render --model bad-huge-coordinate.bcc" 2 "curve 1: point 2: coordinate x" "e+30" -- \
+  render --model "$CORPUS/bad-huge-coordinate.bcc" --out "$TMP/x.png"
+run_case "validate --model bad-tiny-spacing.bcc" 2 "curve 0: point 1" "1e-30 from point 0" "1e-12" -- \
+  validate --model "$CORPUS/bad-tiny-spacing.bcc" --no-images --report "$TMP/report"
+run_case "render --model bad-one-point-curve.bcc" 2 "curve 1: open curve with 1 point" -- \
+  render --model "$CORPUS/bad-one-point-curve.bcc" --out "$TMP/x.png"
+expect_absent "render --model bad-one-point-curve.bcc (no image)" "$TMP/x.png"
+
 # ---- files that cannot be read --------------------------------------------------
 missing=$TMP/no-such-model.bcc
 run_case "validate --model <missing>" 2 "$missing" "cannot open" -- \

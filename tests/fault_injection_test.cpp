@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <cctype>
 #include <filesystem>
 #include <sstream>
@@ -49,9 +50,15 @@ class TempReportDir {
   bool keep_ = false;
 };
 
-HarnessOptions optionsFor(const std::string& inject, const fs::path& reportDir, const std::string& filter = "") {
+HarnessOptions optionsFor(const std::string& inject, const fs::path& reportDir, const std::string& filter = "",
+                          const char* model = nullptr) {
   HarnessOptions o;
   o.filter = filter;
+  // A fault that only shows on some geometry (Fault::model) runs on that file.
+  if (model) {
+    const char* src = std::getenv("FT_SOURCE_DIR");
+    o.model = fs::path(src ? src : ".") / model;
+  }
   o.yarns = {"cotton1"};
   o.images = false;
   o.inject = inject;
@@ -85,10 +92,11 @@ struct Outcome {
   std::string log;
 };
 
-Outcome runHarness(const std::string& inject, TempReportDir& dir, const std::string& filter = "") {
+Outcome runHarness(const std::string& inject, TempReportDir& dir, const std::string& filter = "",
+                   const char* model = nullptr) {
   std::ostringstream log;
   Outcome o;
-  o.run = runValidation(optionsFor(inject, dir.path(), filter), log);
+  o.run = runValidation(optionsFor(inject, dir.path(), filter, model), log);
   o.log = log.str();
   return o;
 }
@@ -122,7 +130,7 @@ namespace {
 TEST_P(PlantedFault, IsDetectedOnEveryPathItCanReach) {
   const Fault& fault = GetParam();
   TempReportDir dir(fault.name);
-  const Outcome o = runHarness(fault.name, dir, fault.filter);
+  const Outcome o = runHarness(fault.name, dir, fault.filter, fault.model);
   const std::string all = describe(o.run) + "report: " + dir.path().string() + "\n";
   const std::string intro = std::string("fault ") + fault.name + " (" + fault.description + ")";
 
@@ -172,6 +180,19 @@ std::string faultTestName(const ::testing::TestParamInfo<Fault>& info) {
 }
 
 INSTANTIATE_TEST_SUITE_P(fault, PlantedFault, ::testing::ValuesIn(kFaults), faultTestName);
+
+// ---- shared faults switch their CPU side off again -------------------------
+
+TEST(fault_injection, SharedFaultIsOffAfterItsRun) {
+  for (const Fault& f : kFaults) {
+    if (!f.shared) continue;
+    TempReportDir dir(std::string(f.name) + "-off");
+    const Outcome with = runHarness(f.name, dir, "^frames/", f.model);
+    EXPECT_FALSE(with.run.allPassed) << f.name << "\n" << describe(with.run);
+    const Outcome without = runHarness("", dir, "^frames/", f.model);
+    EXPECT_TRUE(without.run.allPassed) << f.name << " stayed on after its run\n" << describe(without.run);
+  }
+}
 
 // ---- bad --inject names ------------------------------------------------------
 

@@ -5,6 +5,8 @@
 #pragma once
 #include <string_view>
 
+#include "common/yarn_frame.h"
+
 namespace ft {
 
 struct Fault {
@@ -14,13 +16,22 @@ struct Fault {
   const char* caughtBy;     // metric expected to fail
   const char* paths;        // CaseResult::path values that must each fail a case, comma-separated
   const char* filter;       // the cases that can see it (regex; "" = all), to keep fault runs short
+  const char* model;        // BCC (path from the repository root) the fault shows on; nullptr: built-in scene
+  bool shared;              // lives in common/: planted on the CPU side too (at run time), not only the GPU's
 };
 
 inline constexpr Fault kFaults[] = {
-#define FT_FAULT(name, define, caughtBy, paths, filter, description) {name, #define, description, caughtBy, paths, filter},
+#define FT_FAULT(name, define, caughtBy, paths, filter, model, shared, description) \
+  {name, #define, description, caughtBy, paths, filter, (model)[0] ? (model) : nullptr, shared},
 #include "validation/faults.def"
 #undef FT_FAULT
 };
+
+// Switches a shared fault's CPU side (the GPU side is the define); the
+// harness turns it on for its run and off again when the run ends.
+inline void setSharedFault(std::string_view define, bool on) {
+  if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
+}
 
 inline const Fault* findFault(std::string_view name) {
   for (const Fault& f : kFaults)

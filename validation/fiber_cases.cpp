@@ -194,7 +194,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
       throw std::runtime_error("compute path returned a decision count different from the segment list");
     for (size_t i = 0; i < gpuDecisions.size(); ++i) {
       const SegmentDecision &c = cpu.geometry.decisions[i], &g = gpuDecisions[i];
-      lambdaMax = std::max(lambdaMax, static_cast<double>(std::abs(c.lambda - g.lambda)));
+      lambdaMax = maxKeepNaN(lambdaMax, static_cast<double>(std::abs(c.lambda - g.lambda)));
       if (ambiguous.count(cpu.geometry.segments[i])) continue;
       if (c.culled != g.culled || c.regularCount != g.regularCount || c.subdivisions != g.subdivisions ||
           c.vertexCount != g.vertexCount)
@@ -234,6 +234,12 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
     maxCoordinate = std::max({maxCoordinate, std::abs(double(v.position.x)), std::abs(double(v.position.y)),
                               std::abs(double(v.position.z))});
   const StreamComparison cmp = compareStreams(cpuKept, gpuKept, params.boundRadius);
+  // NaN/Inf on each side, over the whole streams (ambiguous segments included).
+  std::string firstCpuNonFinite, firstGpuNonFinite;
+  uint64_t cpuNonFinite = countNonFinite(cpu.geometry.vertices, &firstCpuNonFinite);
+  uint64_t gpuNonFinite = countNonFinite(gpuVertices, &firstGpuNonFinite);
+  for (const SegmentDecision& d : cpu.geometry.decisions) cpuNonFinite += !std::isfinite(d.lambda);
+  for (const SegmentDecision& d : gpuDecisions) gpuNonFinite += !std::isfinite(d.lambda);
   const double posTol = positionTolerance(params, maxCoordinate);
   r.histogram = cmp.histogram;
   r.histogramMetric = "position.max_abs";
@@ -249,6 +255,8 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
       exact("ids.mismatched", double(cmp.idMismatch),
             "yarn, type and period tags come from exact integer/float operations"),
       exact("decisions.mismatched", double(decisionMismatch), "LoD counts and culling are discrete decisions"),
+      nonFiniteMetric("cpu", cpuNonFinite, "CPU vertex coordinates, widths and λ"),
+      nonFiniteMetric("gpu", gpuNonFinite, "GPU vertex coordinates, widths and λ"),
       Metric{"position.max_abs", cmp.maxAbs, posTol, "world units", kPositionWhy, true},
       Metric{"position.rmse", cmp.rmse, 0.01 * params.fiberRadius, "world units",
              "1% of the fiber radius: typical error must be far below the worst case", true},
@@ -264,7 +272,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   if (!spec.tessellation)
     r.metrics.push_back(Metric{"lambda.max_abs", lambdaMax, 1e-5, "λ",
                                "λ² scales counts ≤ 4096 through ceil(): 1e-5 moves them by < 0.1", true});
-  r.details = notes + cmp.firstMismatches;
+  r.details = notes + firstCpuNonFinite + firstGpuNonFinite + cmp.firstMismatches;
   r.finish();
 
   // Thumbnails: the CPU stream and the GPU path's own rendering, same camera.
@@ -297,24 +305,31 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
   const std::vector<FrameNormal> g = gpu.readFrames();
   r.gpuMilliseconds = msSince(t1);
   r.gpuTiming = "glFinish+steady_clock (includes upload)";
+  if (g.size() != cpu.size()) throw std::runtime_error("GPU frame count differs from the CPU's");
   double maxAngle = 0.0, maxUnit = 0.0, maxOrtho = 0.0;
+  uint64_t cpuNonFinite = 0, gpuNonFinite = 0, cusps = 0;
+  std::string firstNonFinite;
   const YarnBuffers& y = ctx.buffers();
   for (size_t ci = 0; ci < y.curves.size(); ++ci) {
     const CurveInfo& c = y.curves[ci];
     for (uint32_t k = 0; k < ftCurveKnotCount(c); ++k) {
-      const uint32_t segment = c.firstSegment + std::min(k, ftCurveSegmentCount(c) - 1);
-      const YarnSegment seg = loadSegmentCpu(y, cpu, segment);
-      const Knot knot = k < ftCurveSegmentCount(c) ? ftSegmentStartKnot(seg) : ftSegmentEndKnot(seg);
+      const Knot knot = knotCpu(y, c, k);
+      cusps += knot.cusp;
       const glm::dvec3 a(glm::vec3(cpu[c.frameBase + k].normal)), b(glm::vec3(g[c.frameBase + k].normal));
+      const bool aBad = !std::isfinite(glm::dot(a, a)), bBad = !std::isfinite(glm::dot(b, b));
+      cpuNonFinite += aBad;
+      gpuNonFinite += bBad;
+      if ((aBad || bBad) && firstNonFinite.empty())
+        firstNonFinite = fmt::format("curve {} knot {}: CPU normal ({}, {}, {}), GPU normal ({}, {}, {})\n", ci, k, a.x,
+                                     a.y, a.z, b.x, b.y, b.z);
       const double ang = std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
-      maxAngle = std::max(maxAngle, ang);
-      maxUnit = std::max(maxUnit, std::abs(glm::length(b) - 1.0));
-      maxOrtho = std::max(maxOrtho, std::abs(glm::dot(b, glm::dvec3(knot.tangent))));
+      maxAngle = maxKeepNaN(maxAngle, ang);
+      maxUnit = maxKeepNaN(maxUnit, std::abs(glm::length(b) - 1.0));
+      maxOrtho = maxKeepNaN(maxOrtho, std::abs(glm::dot(b, glm::dvec3(ftKnotAxis(knot)))));
       r.histogram.add(ang);
       r.histogramMetric = "normal.max_angle";
     }
   }
-  if (g.size() != cpu.size()) throw std::runtime_error("GPU frame count differs from the CPU's");
   r.metrics = {
       Metric{"normal.max_angle", maxAngle, 1e-4, "radians",
              "1e-4 rad turns a ply by 1e-4 of its offset (~2e-6 units, <1% of a fiber radius) after "
@@ -323,8 +338,13 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
       Metric{"normal.unit_error", maxUnit, 1e-5, "|n|-1", "normalized with sqrt on both sides: a few ulps", true},
       Metric{"normal.tangent_dot", maxOrtho, 1e-5, "|n·t|", "the normal is projected ⟂ the tangent: a few ulps",
              true},
+      nonFiniteMetric("cpu", cpuNonFinite, "CPU knot normals"),
+      nonFiniteMetric("gpu", gpuNonFinite, "GPU knot normals"),
       Metric{"knots", double(cpu.size()), 0.0, "count", "frames compared", false},
+      Metric{"knots.cusps", double(cusps), 0.0, "count",
+             "knots with a zero tangent (exact back-tracks): the fallback of common/yarn_frame.h", false},
   };
+  r.details = firstNonFinite;
   r.finish();
   return r;
 }

@@ -44,6 +44,14 @@ ValidationContext::ValidationContext(HarnessOptions options) : options_(std::mov
   const GlInfo& gi = context_->info();
   fiberGpu_ = std::make_unique<FiberGpu>(gi, defines);
   std::filesystem::create_directories(options_.reportDir / "images");
+  // Last: nothing below throws, so the destructor always switches it off again.
+  if (const Fault* f = options_.inject.empty() ? nullptr : findFault(options_.inject); f && f->shared)
+    setSharedFault(f->define, true);
+}
+
+ValidationContext::~ValidationContext() {
+  if (const Fault* f = options_.inject.empty() ? nullptr : findFault(options_.inject); f && f->shared)
+    setSharedFault(f->define, false);
 }
 
 KnitGpu& ValidationContext::knitGpu() {

@@ -51,6 +51,7 @@ struct ValidationCase {
 class ValidationContext {
  public:
   explicit ValidationContext(HarnessOptions options);
+  ~ValidationContext();  // switches a shared fault's CPU side off again
   const HarnessOptions& options() const { return options_; }
   const GlInfo& gl() const { return context_->info(); }
   FiberGpu& fiberGpu() { return *fiberGpu_; }

@@ -158,6 +158,32 @@ std::string knitThumbnail(ValidationContext& ctx, const YarnModel& model, const 
 
 double gpuEnergy(const GpuRun& g, uint32_t tile, int k) { return g.energies[tile].energy[k]; }
 
+// NaN/Inf each side produced: points, vertices (GPU), energies of every
+// iteration and the knot angles (CPU). Added to every knit case.
+uint64_t nonFiniteCpu(const Solved& s) {
+  uint64_t n = 0;
+  for (const glm::dvec3& p : s.cpu.worldPoints) n += !std::isfinite(p.x + p.y + p.z);
+  for (uint32_t t = 0; t < s.setup.tileCount(); ++t) {
+    for (int k = 0; k <= s.setup.options.iterations; ++k) n += !std::isfinite(s.cpu.energy[t][k]);
+    n += !std::isfinite(s.cpu.theta[t].x + s.cpu.theta[t].y + s.cpu.theta[t].z + s.cpu.theta[t].w);
+  }
+  return n;
+}
+
+uint64_t nonFiniteGpu(const Solved& s, const GpuRun& g) {
+  uint64_t n = 0;
+  for (const glm::vec4& p : g.points) n += !std::isfinite(p.x + p.y + p.z);
+  for (const glm::vec4& v : g.vertices) n += !std::isfinite(v.x + v.y + v.z);
+  for (uint32_t t = 0; t < s.setup.tileCount(); ++t)
+    for (int k = 0; k <= s.setup.options.iterations; ++k) n += !std::isfinite(gpuEnergy(g, t, k));
+  return n;
+}
+
+void addNonFinite(CaseResult& r, const Solved& s, const GpuRun* g) {
+  r.metrics.push_back(nonFiniteMetric("cpu", nonFiniteCpu(s), "CPU knit points, energies and knot angles"));
+  if (g) r.metrics.push_back(nonFiniteMetric("gpu", nonFiniteGpu(s, *g), "GPU knit points, vertices and energies"));
+}
+
 void setTimes(CaseResult& r, const Solved& s, const GpuRun& g) {
   r.cpuMilliseconds = s.cpuMs;
   r.gpuMilliseconds = g.ms;
@@ -186,7 +212,7 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
     const double e = glm::length(p - s.cpu.worldPoints[i]);
     r.histogram.add(e);
     r.histogramMetric = "points.max_abs";
-    if (!(e <= worst)) {
+    if (!(e <= worst) && !std::isnan(worst)) {  // the first NaN sticks
       worst = e;
       worstAt = i;
     }
@@ -196,12 +222,12 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
   double worstVertex = 0;
   for (size_t c = 0; c < ref.curves.size(); ++c)
     for (size_t i = 0; i < ref.curves[c].points.size(); ++i)
-      worstVertex = std::max(worstVertex, double(glm::length(ref.curves[c].points[i] - got.curves[c].points[i])));
+      worstVertex = maxKeepNaN(worstVertex, double(glm::length(ref.curves[c].points[i] - got.curves[c].points[i])));
   double worstEnergy = 0;
   for (uint32_t t = 0; t < s.setup.tileCount(); ++t)
     for (int k = 0; k <= s.setup.options.iterations; ++k) {
       const double a = s.cpu.energy[t][k], b = gpuEnergy(g, t, k);
-      worstEnergy = std::max(worstEnergy, std::abs(a - b) / (a + 1e-9));
+      worstEnergy = maxKeepNaN(worstEnergy, std::abs(a - b) / (a + 1e-9));
     }
   const double tol = kPointFraction * radius;
   r.metrics = {
@@ -223,6 +249,7 @@ CaseResult runPointsCase(ValidationContext& ctx, const Scenario& sc, const std::
                           worstAt % FT_KNIT_TILE_POINTS, s.cpu.worldPoints[worstAt].x, s.cpu.worldPoints[worstAt].y,
                           s.cpu.worldPoints[worstAt].z);
   setTimes(r, s, g);
+  addNonFinite(r, s, &g);
   r.finish();
   return r;
 }
@@ -256,6 +283,7 @@ CaseResult runEnergyCase(ValidationContext& ctx, const Scenario& sc, const std::
   };
   r.details = fmt::format("eq. 3 total: cpu {:.5g} -> {:.5g}, gpu {:.5g} -> {:.5g}", cpu0, cpuN, gpu0, gpuN);
   setTimes(r, s, g);
+  addNonFinite(r, s, &g);
   r.finish();
   return r;
 }
@@ -269,10 +297,10 @@ CaseResult runConstraintCase(ValidationContext& ctx, const Scenario& sc, const s
   for (size_t i = 0; i < g.points.size(); ++i) gpuWorld[i] = glm::dvec3(glm::vec3(g.points[i]));
   KnitConstraintResiduals cpu, gpu;
   auto fold = [](KnitConstraintResiduals& a, const KnitConstraintResiduals& b) {
-    a.midpointContact = std::max(a.midpointContact, b.midpointContact);
-    a.midpointControl = std::max(a.midpointControl, b.midpointControl);
-    a.controlDistance = std::max(a.controlDistance, b.controlDistance);
-    a.perpendicularity = std::max(a.perpendicularity, b.perpendicularity);
+    a.midpointContact = maxKeepNaN(a.midpointContact, b.midpointContact);
+    a.midpointControl = maxKeepNaN(a.midpointControl, b.midpointControl);
+    a.controlDistance = maxKeepNaN(a.controlDistance, b.controlDistance);
+    a.perpendicularity = maxKeepNaN(a.perpendicularity, b.perpendicularity);
   };
   for (uint32_t t = 0; t < s.setup.tileCount(); ++t) {
     fold(cpu, knitConstraintResiduals(s.setup, t, &s.cpu.worldPoints[size_t(t) * FT_KNIT_TILE_POINTS]));
@@ -296,6 +324,7 @@ CaseResult runConstraintCase(ValidationContext& ctx, const Scenario& sc, const s
                              "how far the optimizer turned the knots (perpendicularity is only tested where it did)",
                              false});
   setTimes(r, s, g);
+  addNonFinite(r, s, &g);
   r.finish();
   return r;
 }
@@ -316,7 +345,7 @@ CaseResult runLengthCase(ValidationContext& ctx, const Scenario& sc, const std::
       const double e = std::abs(a.segment[i] / p.restLength[i] - 1), f = std::abs(b.segment[i] / p.restLength[i] - 1);
       optimized += e;
       naive += f;
-      worstOptimized = std::max(worstOptimized, e);
+      worstOptimized = maxKeepNaN(worstOptimized, e);
       ++n;
     }
   }
@@ -334,6 +363,7 @@ CaseResult runLengthCase(ValidationContext& ctx, const Scenario& sc, const std::
       Metric{"length.interpolated_mean_rel_dev", naive, 0, "fraction", "the interpolated template", false},
   };
   r.cpuMilliseconds = s.cpuMs;
+  addNonFinite(r, s, nullptr);
   r.finish();
   return r;
 }

@@ -1,5 +1,7 @@
 #include "validation/knit_command.h"
 
+#include "validation/draw_check.h"
+
 #include <fmt/format.h>
 
 #include <chrono>
@@ -154,6 +156,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
       YarnBuffers buffers = buildYarnBuffers(model);
       adoptLengthCoordinates(buffers, restBuffers);
       fiberGpu->setModel(buffers, fibers.table);
+      checkBeforeDrawing(model.name, buffers, fiberGpu->readFrames());  // no partial image from NaN frames
       fiberGpu->setParams(fibers.params, makeViewParams(camera, 1.0f, true, true));
       RenderStyle style;
       style.lightDir = glm::normalize(glm::vec3(0.3f, 0.6f, 0.8f));

@@ -17,6 +17,7 @@
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_radius.h"
 #include "validation/build_info.h"
+#include "validation/draw_check.h"
 #include "validation/faults.h"
 #include "validation/harness.h"
 #include "validation/knit_command.h"
@@ -125,6 +126,9 @@ int main(int argc, char** argv) {
   render->add_option("--distance", distance, "frame (whole model), closeup (a yarn segment spans ~60 px), near, mid or far (LoD distances)")
       ->capture_default_str();
   render->add_option("--backend", backend, "GL backend");
+  std::string renderInject;
+  render->add_option("--inject", renderInject,
+                     "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");
   addFiberOptions(render, ro);
 
   ft::KnitCommandOptions ko;
@@ -223,8 +227,16 @@ int main(int argc, char** argv) {
       style.lightDir = glm::normalize(parseVec3(light, "--light"));
       auto ctx = ft::GlContext::create(parseBackend(backend));
       const ft::GlInfo& g = ctx->info();
-      ft::FiberGpu gpu(g);
+      std::vector<std::string> defines;
+      if (!renderInject.empty()) {
+        const ft::Fault* f = ft::findFault(renderInject);
+        if (!f) throw ft::InputError(fmt::format("--inject: unknown fault '{}' (see `fibertwin faults`)", renderInject));
+        defines.push_back(f->define);
+        if (f->shared) ft::setSharedFault(f->define, true);
+      }
+      ft::FiberGpu gpu(g, defines);
       gpu.setModel(buffers, fibers.table);
+      ft::checkBeforeDrawing(model.name, buffers, gpu.readFrames());  // no partial image from NaN frames
       gpu.setParams(params, ft::makeViewParams(cam, 1.0f, true, true));
       const auto t0 = std::chrono::steady_clock::now();
       const ft::RgbaImage img = pathName == "compute" ? gpu.renderCompute(width, height, style)

@@ -1,6 +1,10 @@
 // metrics.h — named comparison metrics with the tolerance declared by the
 // case that uses them, and the results a case reports.
 #pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,8 +17,23 @@ struct Metric {
   std::string unit;           // "world units", "count", ...
   std::string justification;  // why this tolerance, in meaningful units
   bool gating = true;         // informational metrics do not decide pass/fail
-  bool pass() const { return !gating || value <= tolerance; }
+  // A NaN or Inf value fails (NaN <= x is false anyway; Inf <= Inf is not).
+  bool pass() const { return !gating || (std::isfinite(value) && value <= tolerance); }
 };
+
+// max for error metrics: a NaN operand wins. std::max(a, NaN) returns a, so a
+// running maximum over NaN errors would silently read as a pass.
+inline double maxKeepNaN(double a, double b) {
+  return std::isnan(a) || std::isnan(b) ? std::numeric_limits<double>::quiet_NaN() : std::max(a, b);
+}
+
+// nonfinite.cpu / nonfinite.gpu: how many NaN/Inf values one side produced.
+// Every case reports both, gating, tolerance 0: a NaN on both sides agrees
+// with itself, so the CPU–GPU comparison cannot see it.
+inline Metric nonFiniteMetric(const char* side, uint64_t count, const std::string& what) {
+  return Metric{std::string("nonfinite.") + side, double(count), 0.0, "count",
+                what + " that are NaN or Inf: never allowed", true};
+}
 
 // log10 histogram of per-vertex errors: bins [1e-10,1e-9), ..., [1e-1, inf); bin 0 also holds exact zeros.
 struct ErrorHistogram {

@@ -11,6 +11,10 @@
 namespace ft {
 
 void ErrorHistogram::add(double error) {
+  if (!std::isfinite(error)) {  // NaN/Inf: counted as the worst error, not as an exact zero
+    ++counts.back();
+    return;
+  }
   int bin = error > 0.0 ? static_cast<int>(std::floor(std::log10(error) - firstDecade)) : 0;
   bin = std::clamp(bin, 0, static_cast<int>(counts.size()) - 1);
   ++counts[static_cast<size_t>(bin)];
@@ -76,10 +80,10 @@ StreamComparison compareStreams(std::span<const FiberVertex> cpu, std::span<cons
     r.histogram.add(err);
     if (err > r.maxAbs && notes < 8 && err > 1e-3 * relativeFloor)
       note(fmt::format("position differs by {:.3g}: CPU {} / GPU {}", err, describe(c), describe(g)));
-    r.maxAbs = std::max(r.maxAbs, err);
+    r.maxAbs = maxKeepNaN(r.maxAbs, err);
     const double mag = std::max(static_cast<double>(glm::length(glm::vec3(c.position))), relativeFloor);
-    r.maxRel = std::max(r.maxRel, err / mag);
-    r.maxWidthAbs = std::max(r.maxWidthAbs, std::abs(static_cast<double>(g.position.w) - c.position.w));
+    r.maxRel = maxKeepNaN(r.maxRel, err / mag);
+    r.maxWidthAbs = maxKeepNaN(r.maxWidthAbs, std::abs(static_cast<double>(g.position.w) - c.position.w));
     sumSq += err * err;
   }
   r.cpuFibers = cpuStrands.size();
@@ -93,6 +97,17 @@ StreamComparison compareStreams(std::span<const FiberVertex> cpu, std::span<cons
       if (!cpuKeys.count(k) && shown++ < 3) note("extra on GPU: " + describe(*v));
   }
   return r;
+}
+
+uint64_t countNonFinite(std::span<const FiberVertex> vertices, std::string* first) {
+  uint64_t n = 0;
+  for (const FiberVertex& v : vertices) {
+    if (std::isfinite(v.position.x) && std::isfinite(v.position.y) && std::isfinite(v.position.z) &&
+        std::isfinite(v.position.w))
+      continue;
+    if (n++ == 0 && first) *first = "non-finite vertex: " + describe(v) + "\n";
+  }
+  return n;
 }
 
 }  // namespace ft

@@ -33,4 +33,7 @@ StreamComparison compareStreams(std::span<const FiberVertex> cpu, std::span<cons
 
 uint64_t vertexKey(const FiberVertex& v);
 
+// Vertices with a NaN/Inf position or width; `first` (if given) describes the first.
+uint64_t countNonFinite(std::span<const FiberVertex> vertices, std::string* first = nullptr);
+
 }  // namespace ft
