@@ -73,56 +73,74 @@ YarnRadiusEstimate estimateYarnRadius(const YarnModel& model) {
   }
   if (spacings.empty()) throw InputError(fmt::format("{}: no yarn segments to estimate a yarn radius from", model.name));
 
-  // Cells a few control-point spacings wide: a query touches few chords.
   std::nth_element(spacings.begin(), spacings.begin() + spacings.size() / 2, spacings.end());
-  ChordGrid grid;
-  grid.cell = std::max(2.0 * spacings[spacings.size() / 2], 1e-6);
+  const double medianSpacing = spacings[spacings.size() / 2];
   const Bounds bounds = modelBounds(model);
-  grid.origin = glm::dvec3(bounds.lo);
-  for (uint32_t k = 0; k < chords.size(); ++k) {
-    const glm::i64vec3 lo = grid.cellOf(glm::min(chords[k].a, chords[k].b));
-    const glm::i64vec3 hi = grid.cellOf(glm::max(chords[k].a, chords[k].b));
-    for (int64_t x = lo.x; x <= hi.x; ++x)
-      for (int64_t y = lo.y; y <= hi.y; ++y)
-        for (int64_t z = lo.z; z <= hi.z; ++z) grid.cells[ChordGrid::key(x, y, z)].push_back(k);
-  }
+  const double extent = std::max(glm::length(glm::dvec3(bounds.hi) - glm::dvec3(bounds.lo)), 1e-30);
+  // The mode needs no more than ~20,000 control points, evenly spread.
+  const size_t stride = std::max<size_t>(1, (samples.size() + 19999) / 20000);
+  size_t queried = 0;
+  for (size_t i = 0; i < samples.size(); i += stride) ++queried;
 
-  // Nearest other pass, searched ring by ring; a chord found in ring r is
-  // final once r cells of margin cover its distance.
-  const double extent = glm::length(glm::dvec3(bounds.hi) - glm::dvec3(bounds.lo));
-  const int maxRing = static_cast<int>(std::min(64.0, std::ceil(0.25 * extent / grid.cell) + 1.0));
+  // Cells start a few control-point spacings wide (a knit's neighbours are
+  // about that close) and grow 4× while fewer than half the queries find a
+  // neighbour within three rings of cells (sparse models, long chords).
   std::vector<double> nearest;
-  nearest.reserve(samples.size());
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const glm::vec3 p = samplePoints[i];
-    const glm::i64vec3 c = grid.cellOf(p);
-    double best = std::numeric_limits<double>::infinity();
-    for (int r = 0; r <= maxRing; ++r) {
-      if (best <= (r - 1) * grid.cell) break;
-      for (int64_t x = c.x - r; x <= c.x + r; ++x)
-        for (int64_t y = c.y - r; y <= c.y + r; ++y)
-          for (int64_t z = c.z - r; z <= c.z + r; ++z) {
-            if (std::max({std::abs(x - c.x), std::abs(y - c.y), std::abs(z - c.z)}) != r) continue;  // shell only
-            auto it = grid.cells.find(ChordGrid::key(x, y, z));
-            if (it == grid.cells.end()) continue;
-            for (uint32_t k : it->second) {
-              double arc = 0.0;
-              const double d = pointChordDistance(p, chords[k], arc);
-              if (d >= best) continue;
-              if (chords[k].curve == samples[i].first) {
-                double along = std::abs(arc - samples[i].second);
-                if (model.curves[samples[i].first].closed)
-                  along = std::min(along, curveLength[samples[i].first] - along);
-                if (along <= 3.0 * d) continue;  // the same pass of the yarn
-              }
-              best = d;
-            }
-          }
+  for (double cell = std::max(2.0 * medianSpacing, extent * 1e-7);; cell *= 4.0) {
+    ChordGrid grid;
+    grid.cell = cell;
+    grid.origin = glm::dvec3(bounds.lo);
+    // A chord is registered in the cells of points along it at most half a
+    // cell apart (at most 256 of them: a chord far longer than the cells is
+    // only partly registered), so every point of it lies within one cell of
+    // a cell that lists it.
+    for (uint32_t k = 0; k < chords.size(); ++k) {
+      const double len = glm::distance(glm::dvec3(chords[k].a), glm::dvec3(chords[k].b));
+      const int steps = static_cast<int>(std::min(256.0, std::ceil(2.0 * len / cell)));
+      uint64_t last = ~0ull;
+      for (int i = 0; i <= steps; ++i) {
+        const glm::vec3 q = glm::mix(chords[k].a, chords[k].b, steps > 0 ? float(i) / float(steps) : 0.0f);
+        const glm::i64vec3 c = grid.cellOf(q);
+        const uint64_t key = ChordGrid::key(c.x, c.y, c.z);
+        if (key != last) grid.cells[key].push_back(k), last = key;
+      }
     }
-    if (std::isfinite(best) && best > 0.0) nearest.push_back(best);
+    nearest.clear();
+    const int maxRing = 3;
+    for (size_t i = 0; i < samples.size(); i += stride) {
+      const glm::vec3 p = samplePoints[i];
+      const glm::i64vec3 c = grid.cellOf(p);
+      double best = std::numeric_limits<double>::infinity();
+      for (int r = 0; r <= maxRing; ++r) {
+        if (best <= (r - 2) * grid.cell) break;  // nothing nearer can lie further out
+        for (int64_t x = c.x - r; x <= c.x + r; ++x)
+          for (int64_t y = c.y - r; y <= c.y + r; ++y)
+            for (int64_t z = c.z - r; z <= c.z + r; ++z) {
+              if (std::max({std::abs(x - c.x), std::abs(y - c.y), std::abs(z - c.z)}) != r) continue;  // shell only
+              auto it = grid.cells.find(ChordGrid::key(x, y, z));
+              if (it == grid.cells.end()) continue;
+              for (uint32_t k : it->second) {
+                double arc = 0.0;
+                const double d = pointChordDistance(p, chords[k], arc);
+                if (d >= best) continue;
+                if (chords[k].curve == samples[i].first) {
+                  double along = std::abs(arc - samples[i].second);
+                  if (model.curves[samples[i].first].closed)
+                    along = std::min(along, curveLength[samples[i].first] - along);
+                  if (along <= 3.0 * d) continue;  // the same pass of the yarn
+                }
+                best = d;
+              }
+            }
+      }
+      if (std::isfinite(best) && best > 0.0) nearest.push_back(best);
+    }
+    if (2 * nearest.size() >= queried || cell > extent) break;
   }
-  if (nearest.empty())
-    throw InputError(fmt::format("{}: no yarn passes near another one; give --yarn-radius", model.name));
+  YarnRadiusEstimate e;
+  e.samples = queried;
+  e.withNeighbour = nearest.size();
+  if (nearest.empty()) return e;  // found == false
 
   // Mode of the nearest-pass distances over [0, 2·median].
   std::vector<double> sorted = nearest;
@@ -137,11 +155,9 @@ YarnRadiusEstimate estimateYarnRadius(const YarnModel& model) {
     if (b < bins) ++counts[b], sums[b] += d;
   }
   const int peak = static_cast<int>(std::max_element(counts.begin(), counts.end()) - counts.begin());
-  YarnRadiusEstimate e;
+  e.found = true;
   e.contactSpacing = static_cast<float>(sums[peak] / counts[peak]);
   e.radius = 0.5f * e.contactSpacing;
-  e.samples = samples.size();
-  e.withNeighbour = nearest.size();
   return e;
 }
 
@@ -171,9 +187,12 @@ FittedPreset fitYarnPreset(const YarnPreset& preset, const YarnModel& model, std
       throw InputError(fmt::format("--yarn-radius: {} must be a positive number", *yarnRadius));
     f.radius = *yarnRadius;
     f.source = "--yarn-radius";
-  } else {
-    f.radius = estimateYarnRadius(model).radius;
+  } else if (const YarnRadiusEstimate e = estimateYarnRadius(model); e.found) {
+    f.radius = e.radius;
     f.source = "estimated from " + model.name;
+  } else {
+    f.radius = presetEnvelopeRadius(preset);
+    f.source = "no yarn of " + model.name + " passes near another: the preset's own scale";
   }
   f.scale = f.radius / presetEnvelopeRadius(preset);
   f.preset = scaleYarnPreset(preset, f.scale);
@@ -182,7 +201,7 @@ FittedPreset fitYarnPreset(const YarnPreset& preset, const YarnModel& model, std
 
 FittedFibers fitFibers(const YarnPreset& preset, double yarnRadius, std::string source, const FiberOptions& options) {
   FittedFibers f;
-  f.fit = fitYarnPreset(preset, YarnModel{}, yarnRadius);
+  f.fit = fitYarnPreset(preset, YarnModel{}, yarnRadius == 0.0 ? presetEnvelopeRadius(preset) : yarnRadius);
   f.fit.source = std::move(source);
   FiberOptions o = options;
   o.fiberRadius = static_cast<float>(options.fiberRadius * f.fit.scale);
@@ -194,7 +213,8 @@ FittedFibers fitFibers(const YarnPreset& preset, const YarnModel& model, const F
   if (options.yarnRadius > 0.0f) return fitFibers(preset, options.yarnRadius, "--yarn-radius", options);
   if (options.yarnRadius != 0.0f || !std::isfinite(options.yarnRadius))
     throw InputError(fmt::format("--yarn-radius: {} must be a positive number", options.yarnRadius));
-  return fitFibers(preset, estimateYarnRadius(model).radius, "estimated from " + model.name, options);
+  const FittedPreset fit = fitYarnPreset(preset, model, std::nullopt);
+  return fitFibers(preset, fit.radius, fit.source, options);
 }
 
 }  // namespace ft

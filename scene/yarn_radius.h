@@ -18,9 +18,10 @@
 namespace ft {
 
 struct YarnRadiusEstimate {
+  bool found = false;           // false: no pass has a neighbour (one straight yarn)
   float radius = 0.0f;          // half the contact spacing
   float contactSpacing = 0.0f;  // typical centre-line distance of touching yarns
-  size_t samples = 0;           // control points measured
+  size_t samples = 0;           // control points measured (at most ~20,000, evenly spread)
   size_t withNeighbour = 0;     // of which had another yarn pass within reach
 };
 
@@ -30,8 +31,8 @@ struct YarnRadiusEstimate {
 // row does). Touching passes are the nearest ones, and in a knit they are the
 // most common, so the contact spacing is the mode of these distances
 // (a histogram over [0, 2·median] in 64 bins, refined by the bin's mean).
-// Throws InputError naming the model when no control point has a neighbour
-// (a single straight yarn has no thickness to read).
+// A model with no neighbouring passes (one straight yarn) has no thickness
+// to read: found = false.
 YarnRadiusEstimate estimateYarnRadius(const YarnModel& model);
 
 // The preset with every length multiplied by `factor` (ply radius, ellipse
@@ -47,7 +48,8 @@ double presetEnvelopeRadius(const YarnPreset& preset);
 
 // How a preset is fitted to a model (`validate`, `render`, `knit` and the
 // benches share it): to `yarnRadius` when given, else to the model's
-// estimated radius. `scale` = fitted radius / presetEnvelopeRadius.
+// estimated radius, else (nothing to estimate from) at its own scale, which
+// `source` says. `scale` = fitted radius / presetEnvelopeRadius.
 struct FittedPreset {
   YarnPreset preset;
   double scale = 1.0;
@@ -65,7 +67,8 @@ struct FittedFibers : FiberSetup {
 FittedFibers fitFibers(const YarnPreset& preset, const YarnModel& model, const FiberOptions& options);
 
 // The same, to a radius already estimated (estimateYarnRadius is not free on
-// big models: callers that fit several presets estimate once).
+// big models: callers that fit several presets estimate once); 0: the
+// preset's own scale (nothing to estimate from).
 FittedFibers fitFibers(const YarnPreset& preset, double yarnRadius, std::string source, const FiberOptions& options);
 
 }  // namespace ft

@@ -61,15 +61,22 @@ TEST(FiberReference, SegmentSubsetMatchesTheFullRun) {
   const FiberGeometry all = generateFibersCpu(input, frames);
   const std::vector<uint32_t> subset = {7, 3, 100};
   const FiberGeometry part = generateFibersCpu(input, frames, subset);
-  const size_t perSegment = part.vertices.size() / 3;
-  ASSERT_EQ(perSegment * 3, part.vertices.size());  // LoD off: equal counts per segment
-  for (size_t k = 0; k < subset.size(); ++k)
-    for (size_t v = 0; v < perSegment; ++v) {
-      const FiberVertex& p = part.vertices[k * perSegment + v];
-      const FiberVertex& f = all.vertices[subset[k] * perSegment + v];
+  // Counts differ per segment (the subdivisions follow the screen): find
+  // each segment's range from the decisions.
+  std::vector<size_t> firstOf(all.decisions.size() + 1, 0);
+  for (size_t i = 0; i < all.decisions.size(); ++i) firstOf[i + 1] = firstOf[i] + all.decisions[i].vertexCount;
+  ASSERT_EQ(firstOf.back(), all.vertices.size());
+  size_t at = 0;
+  for (size_t k = 0; k < subset.size(); ++k) {
+    ASSERT_EQ(part.decisions[k].vertexCount, all.decisions[subset[k]].vertexCount);
+    for (size_t v = 0; v < part.decisions[k].vertexCount; ++v, ++at) {
+      const FiberVertex& p = part.vertices[at];
+      const FiberVertex& f = all.vertices[firstOf[subset[k]] + v];
       ASSERT_EQ(p.position, f.position);
       ASSERT_EQ(p.id, f.id);
     }
+  }
+  EXPECT_EQ(at, part.vertices.size());
 }
 
 }  // namespace

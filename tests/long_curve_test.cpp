@@ -6,6 +6,9 @@
 // boundaries and at the seam, beyond what the curve's own turning explains.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <iostream>
+
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +19,7 @@
 #include "gpu/gl_context.h"
 #include "reference/fiber_reference.h"
 #include "scene/bcc_reader.h"
+#include "scene/yarn_radius.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -73,6 +77,10 @@ TEST(LongCurve, ClosedCurveOf200kPointsValidatesOnTheGpu) {
   HarnessOptions o;
   o.model = model;
   o.yarns = {"cotton1"};
+  // The knot's strands are ~2 apart: fitted to that, the yarn would be 22×
+  // the preset and the near view a wall of fibers. The frames are what this
+  // test is about; the preset keeps its own scale.
+  o.fiber.yarnRadius = static_cast<float>(presetEnvelopeRadius(findYarnPreset("cotton1")));
   o.filter = "^(frames|fiber)/";  // the knit cases do not read the model
   o.images = false;
   o.reportDir = dir / "report";
@@ -80,6 +88,7 @@ TEST(LongCurve, ClosedCurveOf200kPointsValidatesOnTheGpu) {
   std::ostringstream log;
   const RunSummary run = runValidation(o, log);
   ASSERT_GT(run.results.size(), 1u) << log.str();
+  if (std::getenv("FT_VERBOSE")) std::cout << log.str();
   bool framesSeen = false;
   for (const CaseResult& r : run.results) {
     framesSeen = framesSeen || r.group == "frames";

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "knit/knit_problem.h"
 #include "knit/stitch_mesh.h"
@@ -75,13 +76,27 @@ TEST(YarnRadius, LoneStraightYarnHasNoThickness) {
   YarnModel m;
   m.name = "lonely.bcc";
   m.curves.push_back(line({0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, 11));
-  try {
-    estimateYarnRadius(m);
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& err) {
-    EXPECT_NE(std::string(err.what()).find("lonely.bcc"), std::string::npos) << err.what();
-    EXPECT_NE(std::string(err.what()).find("--yarn-radius"), std::string::npos) << err.what();
-  }
+  EXPECT_FALSE(estimateYarnRadius(m).found);
+  // Fitting then keeps the preset's own scale, and says so.
+  const FittedPreset f = fitYarnPreset(findYarnPreset("cotton1"), m, std::nullopt);
+  EXPECT_DOUBLE_EQ(f.scale, 1.0);
+  EXPECT_NE(f.source.find("lonely.bcc"), std::string::npos) << f.source;
+  EXPECT_NE(f.source.find("own scale"), std::string::npos) << f.source;
+}
+
+// Neighbours far apart compared with the point spacing (a densely sampled
+// knot whose strands are 50 spacings apart) are still found, quickly.
+TEST(YarnRadius, SparseNeighboursOfADenseCurve) {
+  YarnModel m;
+  m.name = "dense pair";
+  m.curves.push_back(line({0.0f, 0.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, 40001));
+  m.curves.push_back(line({0.0f, 0.0025f, 0.0f}, {2.0f, 0.0025f, 0.0f}, 2));  // spacing 5e-5 vs distance 2.5e-3
+  m.curves.push_back(line({0.0f, 0.0f, 1.0f}, {2.0f, 0.0f, 1.0f}, 40001));
+  m.curves.push_back(line({0.0f, 0.0025f, 1.0f}, {2.0f, 0.0025f, 1.0f}, 40001));
+  const YarnRadiusEstimate e = estimateYarnRadius(m);
+  ASSERT_TRUE(e.found);
+  EXPECT_NEAR(e.radius, 0.00125, 0.00125 * 0.01);
+  EXPECT_LE(e.samples, 20001u);
 }
 
 // Every length of reference-data §2 scales, every ratio and angle stays.

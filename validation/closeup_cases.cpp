@@ -11,6 +11,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
+#include <span>
 #include <unordered_map>
 
 #include "common/fiber_generation.h"
@@ -18,6 +19,7 @@
 #include "reference/fiber_reference.h"
 #include "scene/camera.h"
 #include "validation/harness.h"
+#include "validation/vertex_compare.h"
 
 namespace ft {
 
@@ -145,6 +147,10 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   }
   r.gpuMilliseconds = msSince(t1);
   r.gpuTiming = "glFinish+steady_clock (includes read-back)";
+  // A NaN vertex projects nowhere and would silently drop out of the maxima.
+  std::string firstNonFinite;
+  const uint64_t gpuNonFinite = countNonFinite(vertices, &firstNonFinite);
+  uint64_t exactNonFinite = 0;
 
   // Polylines of the GPU's own vertices.
   std::map<std::pair<uint32_t, uint32_t>, Strip> strips;  // (segment, ply|fiber)
@@ -218,14 +224,18 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       ++chords;
       for (uint32_t q = 1; q < 4; ++q) {
         const FiberVertex e = ftFiberVertex(p, rates, seg, d4, curve, sgm, ply, slot, fc, 4u * j + q);
+        if (countNonFinite(std::span<const FiberVertex>(&e, 1)) != 0) {
+          ++exactNonFinite;
+          continue;
+        }
         if (hairBreak(a.id, e.id) || hairBreak(e.id, b.id)) continue;  // the free end of a hair lies inside
         const ProjectedPoint pe = project(view, width, height, glm::vec3(e.position));
         if (!pe.visible) continue;
         const double err = pointSegmentDistance(pe.px, proj[j].px, proj[j + 1].px);
         if (hair) {
-          chordHairMax = std::max(chordHairMax, err);
-        } else if (err > chordMax) {
-          chordMax = err;
+          chordHairMax = maxKeepNaN(chordHairMax, err);
+        } else if (!(err <= chordMax)) {
+          chordMax = maxKeepNaN(chordMax, err);
           worst = fmt::format("chord: segment {} ply {} fiber {} type {} chord {}/{}: {:.3f} px\n", sgm, ply, fiber,
                               a.id.w & 0xFFu, j, d.subdivisions, err);
         }
@@ -241,9 +251,9 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       double turn = 0.0;
       const double k = kinkAt(proj[j - 1], proj[j], proj[j + 1], turn);
       ++joints;
-      turnMax = std::max(turnMax, turn);
-      if (k > kinkMax) {
-        kinkMax = k;
+      turnMax = maxKeepNaN(turnMax, turn);
+      if (!(k <= kinkMax)) {
+        kinkMax = maxKeepNaN(kinkMax, k);
         if (k > kKinkTolerancePx)
           worst += fmt::format("kink: segment {} ply {} fiber {} vertex {}: {:.3f} px, {:.1f}°\n", sgm, ply, fiber, j, k, turn);
       }
@@ -266,10 +276,10 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
           double turn = 0.0;
           const double k = kinkAt(proj[d.subdivisions - 1], proj[d.subdivisions], pc, turn);
           ++knotJoints;
-          turnKnotMax = std::max(turnKnotMax, turn);
-          kinkKnotMax = std::max(kinkKnotMax, k);
-          if (k > kinkMax) {
-            kinkMax = k;
+          turnKnotMax = maxKeepNaN(turnKnotMax, turn);
+          kinkKnotMax = maxKeepNaN(kinkKnotMax, k);
+          if (!(k <= kinkMax)) {
+            kinkMax = maxKeepNaN(kinkMax, k);
             if (k > kKinkTolerancePx)
               worst += fmt::format("kink at knot: segment {} → {} ply {} fiber {} types {} {} {}: {:.3f} px, {:.1f}°, "
                                    "subdivisions {} / {}\n",
@@ -283,6 +293,8 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   if (chords == 0) throw std::runtime_error("no visible chord to measure");
 
   r.metrics = {
+      nonFiniteMetric("gpu", gpuNonFinite, "drawn vertex positions and widths"),
+      nonFiniteMetric("cpu", exactNonFinite, "points of the exact curve"),
       Metric{"chord.max_px", chordMax, kChordTolerancePx, "pixels",
              "the subdivision rule aims at 0.25 px; half a pixel is where a line covers other pixel centres "
              "than the curve",
@@ -309,7 +321,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       Metric{"segments.listed", double(list.size()), 0.0, "count", "segments the camera sees (up to the budget)",
              false},
   };
-  r.details = worst;
+  r.details = firstNonFinite.empty() ? worst : firstNonFinite + "\n" + worst;
   r.finish();
   if (o.images && (!r.pass || &preset == ctx.presets().front())) {
     RgbaImage img = tessellation ? gpu.renderTessellation(o.imageWidth * 2, o.imageHeight * 2, RenderStyle{})

@@ -26,9 +26,12 @@ ValidationContext::ValidationContext(HarnessOptions options) : options_(std::mov
   if (options_.fiber.yarnRadius != 0.0f) {
     yarnRadius_ = fitYarnPreset(*presets().front(), model_, options_.fiber.yarnRadius).radius;  // checks the value
     yarnRadiusSource_ = "--yarn-radius";
-  } else {
-    yarnRadius_ = estimateYarnRadius(model_).radius;
+  } else if (const YarnRadiusEstimate e = estimateYarnRadius(model_); e.found) {
+    yarnRadius_ = e.radius;
     yarnRadiusSource_ = "estimated from the model";
+  } else {
+    yarnRadius_ = 0.0;  // each preset at its own scale
+    yarnRadiusSource_ = "no yarn passes near another: each preset at its own scale";
   }
   std::vector<std::string>& defines = defines_;
   if (!options_.inject.empty()) {
