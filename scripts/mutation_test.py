@@ -23,6 +23,7 @@ Usage:
   python3 scripts/mutation_test.py --list                     # every candidate mutant
   python3 scripts/mutation_test.py --max-mutants 40 --seed 1  # a deterministic sample
   python3 scripts/mutation_test.py --files 'gpu/shaders/fiber_*.glsl' --max-mutants 20
+  python3 scripts/mutation_test.py --only 'fiber_geometry.h:196:45:const' --max-mutants 0
 Outputs (default build/mutation/): report.md, report.json, log.txt.
 """
 import argparse
@@ -116,15 +117,10 @@ def candidates_in(path):
             mutated = raw[:start] + new + raw[end:]
             out.append(Mutant(rel, n, start + 1, op, old, new, mutated))
 
-        # Relational: < <-> <=, > <-> >= (not <<, >>, templates or includes).
-        for m in re.finditer(r"(?<![<>=!-])(<=|>=|<|>)(?![<>=])", code):
-            tok = m.group(1)
-            before = code[: m.start()]
-            if tok in ("<", ">") and re.search(r"\b(static_cast|std::\w+|vector|array|span|map|pair|tuple)\s*$", before):
-                continue
-            if tok == ">" and code[m.start() - 1 : m.start()] == "-":
-                continue
-            add("rel", m.start(), m.end(), {"<": "<=", "<=": "<", ">": ">=", ">=": ">"}[tok])
+        # Relational: < <-> <=, > <-> >=, written with a space on each side as the
+        # code style writes comparisons (template brackets, <<, >>, -> are not).
+        for m in re.finditer(r"(?<= )(<=|>=|<|>)(?= )", code):
+            add("rel", m.start(), m.end(), {"<": "<=", "<=": "<", ">": ">=", ">=": ">"}[m.group(1)])
         # Sign flips of binary + and - (spaced, as the code style writes them).
         for m in re.finditer(r"(?<=[\w)\]]) ([+-]) (?=[\w(.])", code):
             add("sign", m.start() + 1, m.start() + 2, "-" if m.group(1) == "+" else "+")
@@ -306,6 +302,8 @@ def main():
     ap.add_argument("--max-mutants", type=int, default=40, help="sample size (0 = all candidates)")
     ap.add_argument("--seed", type=int, default=1, help="sampling seed (deterministic)")
     ap.add_argument("--list", action="store_true", help="list the (sampled) mutants and exit")
+    ap.add_argument("--only", help="regex on mutant ids (file:line:col:op), applied before sampling; "
+                    "e.g. rerun the survivors of a report after adding checks")
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "mutation"), help="copy, build and reports")
     ap.add_argument("--validate-args", default="--yarn cotton1", help="extra `fibertwin validate` arguments")
     ap.add_argument("--check-timeout", type=int, default=300, help="seconds per check")
@@ -314,6 +312,8 @@ def main():
     args = ap.parse_args()
 
     cands = all_candidates(args.files or DEFAULT_FILES)
+    if args.only:
+        cands = [c for c in cands if re.search(args.only, c.ident())]
     chosen = sample(cands, args.max_mutants, args.seed)
     if args.list:
         for c in chosen:
