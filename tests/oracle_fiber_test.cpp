@@ -236,6 +236,16 @@ TEST(OracleFiber, PlyCentresFollowTheirHelix) {
       worstAngle = std::max(worstAngle, std::abs(wrapAngle(angleAboutX(r) - m.plyAngle(phi0.at(t.yarn), v.position.x, t.ply))));
     }
     ASSERT_GT(cores, 1000u);
+    // §3.2: the core fiber is as thick as the farthest fiber it stands for: the
+    // largest R_i of the inner fiber_num − regular rows, at ρ_max, across the
+    // long axis e_B. The drawn half-width (position.w) of every core vertex.
+    double coreR = 0.0;
+    for (size_t i = 0; i + run.params.regularFibers < run.table.size(); ++i) coreR = std::max(coreR, double(run.table[i].radius));
+    const double coreWidth = m.eB * m.rhoMax * coreR;
+    double worstWidth = 0.0;
+    for (const FiberVertex& v : run.geometry.vertices)
+      if (decode(v).type == kCore) worstWidth = std::max(worstWidth, std::abs(v.position.w / coreWidth - 1.0));
+    EXPECT_LT(worstWidth, 1e-5) << name << ": core fiber half-width vs e_B ρ_max max(R_i of the core fibers)";
     // float positions of |x| ≤ 4: ~1e-6 relative; a 5 % error is 4 orders above.
     EXPECT_LT(worstDistance, 1e-4) << name << ": ply centre distance from the yarn axis vs yarn_radius / 2";
     // φ advances 2π·4/yarn_alpha ≈ 60 rad; float length coordinates: ~1e-5 rad.
@@ -325,30 +335,37 @@ TEST(OracleFiber, MigrationFibersFollowEquations1And2) {
 
 // R_i of the fibers, measured from the vertices (largest normalized radius /
 // ρ_max), against p(R) of reference-data §2 (uniform in the disk, accepted with
-// p): one-sample Kolmogorov–Smirnov over the fiber tables of several seeds.
+// p): one-sample Kolmogorov–Smirnov over the fiber tables of 10 seeds (5 migration periods each, so that
+// some peak of every fiber is a migration peak); and θ_i
+// (the polar angle at the first migration vertex less the twist) against uniform.
 TEST(OracleFiber, FiberRadiiFollowTheCrossSectionDensity) {
   for (const char* name : {"cotton1", "rayon2", "polyester1"}) {
     const YarnPreset& preset = findYarnPreset(name);
     const PlyModel m(preset);
-    std::vector<double> radii;
-    for (uint32_t seed = 1; seed <= 6; ++seed) {
+    std::vector<double> radii, thetas;
+    for (uint32_t seed = 1; seed <= 10; ++seed) {
       FiberOptions o = optionsWith(uint32_t(preset.fiberNum), 4, FT_MIGRATION_PHASE_FIBER_ANGLE);
       o.seed = seed;
-      const StraightRun run = runStraight(name, o, 1, 2.0 * std::max(m.alpha / m.s, 0.5));
+      const StraightRun run = runStraight(name, o, 1, 5.0 * std::max(m.alpha / m.s, 0.3));
       const auto phi0 = plyPhaseOffsets(run, m);
       for (const auto& [key, list] : strips(run)) {
         const auto [yarn, ply, fiber] = key;
         if (ply != 0) continue;  // the plies share one table
-        double hi = 0.0;
+        double hi = 0.0, theta = -1.0;
         for (const FiberVertex* v : list)
           if (decode(*v).type == kMigration) {
             const CrossSection cs = crossSection(*v, yarn, m, phi0.at(yarn), ply);
             hi = std::max(hi, std::hypot(cs.u / m.eN, cs.w / m.eB));
+            if (theta < 0.0) {  // θ_i: the polar angle less the twist 2π x / alpha, in turns
+              const double turns = m.fiberSign * std::atan2(cs.w / m.eB, cs.u / m.eN) / (2.0 * kPi) - cs.x / m.alpha;
+              theta = turns - std::floor(turns);
+            }
           }
         radii.push_back(hi / m.rhoMax);
+        if (theta >= 0.0) thetas.push_back(theta);
       }
     }
-    ASSERT_EQ(radii.size(), size_t(6 * preset.fiberNum));
+    ASSERT_EQ(radii.size(), size_t(10 * preset.fiberNum));
     // CDF of R: F(r) ∝ ∫_0^r t p(t) dt, Simpson's rule on a fine grid.
     const double e = std::exp(1.0);
     auto p = [&](double r) {
@@ -374,6 +391,16 @@ TEST(OracleFiber, FiberRadiiFollowTheCrossSectionDensity) {
     const double critical = 1.95 / std::sqrt(n);  // α = 0.001
     std::printf("%s: KS D = %.4f over %zu fibers (critical %.4f at alpha 0.001)\n", name, D, radii.size(), critical);
     EXPECT_LT(D, critical) << name << ": R_i distribution vs p(R)";
+    // Uniform in the disk: θ_i uniform on [0, 1) turns (KS against the identity CDF).
+    std::sort(thetas.begin(), thetas.end());
+    double Dt = 0.0;
+    const double nt = double(thetas.size());
+    for (size_t i = 0; i < thetas.size(); ++i)
+      Dt = std::max({Dt, std::abs(thetas[i] - i / nt), std::abs(thetas[i] - (i + 1) / nt)});
+    std::printf("%s: KS D = %.4f for theta_i over %zu fibers (critical %.4f)\n", name, Dt, thetas.size(),
+                1.95 / std::sqrt(nt));
+    ASSERT_GT(thetas.size(), radii.size() / 2);
+    EXPECT_LT(Dt, 1.95 / std::sqrt(nt)) << name << ": θ_i distribution vs uniform";
     EXPECT_LE(radii.back(), preset.rMax * (1.0 + 1e-3)) << name;
   }
 }
