@@ -310,6 +310,7 @@ def main():
     ap.add_argument("--build-timeout", type=int, default=1800, help="seconds per rebuild")
     ap.add_argument("--budget", type=int, default=0, help="stop starting mutants after this many seconds (0: none)")
     args = ap.parse_args()
+    args.work = os.path.abspath(args.work)
 
     cands = all_candidates(args.files or DEFAULT_FILES)
     if args.only:
