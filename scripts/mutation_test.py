@@ -24,6 +24,7 @@ Usage:
   python3 scripts/mutation_test.py --max-mutants 40 --seed 1  # a deterministic sample
   python3 scripts/mutation_test.py --files 'gpu/shaders/fiber_*.glsl' --max-mutants 20
   python3 scripts/mutation_test.py --only 'fiber_geometry.h:196:45:const' --max-mutants 0
+  python3 scripts/mutation_test.py --changed-since origin/main --max-mutants 30  # your own change
 Outputs (default build/mutation/): report.md, report.json, log.txt.
 """
 import argparse
@@ -176,6 +177,21 @@ def all_candidates(globs):
     return cands
 
 
+def changed_lines(rev):
+    """{path: set of line numbers} added or changed in the working tree since `rev`."""
+    diff = subprocess.run(["git", "diff", "-U0", rev, "--"], cwd=ROOT, stdout=subprocess.PIPE, text=True,
+                          check=True).stdout
+    out, path = {}, None
+    for line in diff.split("\n"):
+        if line.startswith("+++ "):
+            path = line[6:] if line.startswith("+++ b/") else None
+        m = re.match(r"@@ -\S+ \+(\d+)(?:,(\d+))? @@", line)
+        if m and path:
+            start, count = int(m.group(1)), int(m.group(2) or 1)
+            out.setdefault(path, set()).update(range(start, start + count))
+    return out
+
+
 def folder_of(rel):
     for f in FOLDERS:
         if rel.startswith(f + "/"):
@@ -302,6 +318,9 @@ def main():
     ap.add_argument("--max-mutants", type=int, default=40, help="sample size (0 = all candidates)")
     ap.add_argument("--seed", type=int, default=1, help="sampling seed (deterministic)")
     ap.add_argument("--list", action="store_true", help="list the (sampled) mutants and exit")
+    ap.add_argument("--changed-since", metavar="REV",
+                    help="only lines added or changed since git revision REV (e.g. origin/main, HEAD~1), "
+                    "working tree included: mutants of your own change")
     ap.add_argument("--only", help="regex on mutant ids (file:line:col:op), applied before sampling; "
                     "e.g. rerun the survivors of a report after adding checks")
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "mutation"), help="copy, build and reports")
@@ -313,6 +332,9 @@ def main():
     args.work = os.path.abspath(args.work)
 
     cands = all_candidates(args.files or DEFAULT_FILES)
+    if args.changed_since:
+        changed = changed_lines(args.changed_since)
+        cands = [c for c in cands if c.line in changed.get(c.path, ())]
     if args.only:
         cands = [c for c in cands if re.search(args.only, c.ident())]
     chosen = sample(cands, args.max_mutants, args.seed)
