@@ -666,7 +666,7 @@ TEST(OracleFiber, FibersAreContinuousExceptAtHairTips) {
         if (!tip && s > 8.0 * around + 5e-3 * m.eN) {
           ++jumps;
           worst = std::max(worst, s / m.eN);
-          if (std::getenv("FT_ORACLE_DEBUG") && jumps < 6) {
+          if (std::getenv("FT_ORACLE_DEBUG") && jumps < 6) {  // FT_ORACLE_DEBUG=1: print the first jumps
             for (size_t q = k - 1; q <= k + 2; ++q) {
               const Tag t = decode(*list[q]);
               std::printf("  x %.5f type %u cell %u d %.5f allowed %d\n", list[q]->position.x, t.type, t.period, d[q],
