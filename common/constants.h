@@ -56,6 +56,12 @@
 #define FT_FIBER_LOOP 2u
 #define FT_FIBER_HAIR 3u
 
+// Migration phase of eq. 2 (YarnParams.migrationPhase): an independent random
+// phase per fiber, as the presets were fitted (Zhao et al. 2016, public fitting
+// code), or θ_i, the fiber's own polar angle, as eq. 2 of Wu & Yuksel 2017 writes it.
+#define FT_MIGRATION_PHASE_INDEPENDENT 0u
+#define FT_MIGRATION_PHASE_FIBER_ANGLE 1u
+
 // Fiber id used for a ply's core fiber in FiberVertex.id.z (low 16 bits).
 #define FT_CORE_FIBER_ID 0xFFFFu
 

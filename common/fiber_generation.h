@@ -54,8 +54,9 @@ FT_FUNC PeriodCache ftEmptyPeriodCache() {
   c.valid = 0u;
   c.index = 0u;
   c.period.type = FT_FIBER_MIGRATION;
-  c.period.loopRhoMax = 0.0f;
-  c.period.hairRadius = 0.0f;
+  c.period.loopPeak = 0.0f;
+  c.period.hairEnd = 0.0f;
+  c.period.hairRoot = 0.0f;
   c.period.hairSpan = 0.0f;
   c.period.hairAngle = 0.0f;
   c.period.hairAtEnd = 0u;
@@ -102,7 +103,7 @@ FT_FUNC CachedFiberVertex ftFiberVertexAt(YarnParams p, TwistRates r, YarnSample
     return out_;
   }
   uint fiber = ftSlotFiber(p, slot);
-  PeriodPhase ph = ftPeriodPhase(r, s, fc);
+  PeriodPhase ph = ftPeriodPhase(p, r, s, ftMigrationPhaseTurns(p, yarn, ply, fiber, fc));
   if (cache.valid == 0u || cache.index != ph.index) {
     out_.cache.valid = 1u;
     out_.cache.index = ph.index;

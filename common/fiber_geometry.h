@@ -73,40 +73,64 @@ FT_FUNC PlyFrame ftPlyFrame(YarnParams p, TwistRates r, YarnFrame f, float s, ui
 }
 
 // Migration radius of eq. 2, written with the in-period fraction f ∈ [0, 1):
-// periods start and end at R_i·R_min, so a period whose R_max is raised (a
-// loop) or whose end is cut loose (a hair) still joins its neighbours.
+// periods start and end at R_i·R_min (ply-disk units).
 FT_FUNC float ftMigrationRadius(YarnParams p, float radiusI, float rhoMax, float f) {
   return radiusI * (p.rhoMin + (rhoMax - p.rhoMin) * 0.5f * (1.0f - cos(FT_TWO_PI * f)));
 }
 
-// Where a length coordinate falls in a fiber's migration periods. Exact
-// operations only, so both sides agree on the index bit for bit.
+// Phase of eq. 2 at s = 0, in turns. FT_MIGRATION_PHASE_FIBER_ANGLE: θ_i, as
+// eq. 2 of Wu & Yuksel 2017 (§2.2) writes it, so for s = 1 the radius is locked
+// to the polar angle; FT_MIGRATION_PHASE_INDEPENDENT (the default): a random
+// phase per fiber of each ply, drawn apart from θ_i as the presets' public
+// fitting code (Zhao et al. 2016) does.
+FT_FUNC float ftMigrationPhaseTurns(YarnParams p, uint yarn, uint ply, uint fiber, FiberCoord fc) {
+  if (p.migrationPhase == FT_MIGRATION_PHASE_FIBER_ANGLE) return fc.thetaTurns;
+  FiberRandomKey key;
+  key.yarn = yarn;
+  key.plyFiber = ftPackFiberId(ply, fiber);
+  key.period = 0xFFFFFFFFu;  // reserved: no flyaway cell has this index
+  key.seed = p.seed;
+  return ftUnitFloat(ftRandomBits(key, 3u).x);
+}
+
+// Where a length coordinate falls in a fiber's migration periods and flyaway
+// cells (each period is cut into p.flyawayCells equal cells). Exact or
+// precise operations only, so both sides agree on the indices bit for bit.
 struct PeriodPhase {
-  uint index;      // period index (wrapped on closed curves)
-  float fraction;  // position inside the period, [0, 1)
+  uint index;          // flyaway cell index: period (wrapped on closed curves) · cells + cell in period
+  float fraction;      // position inside the migration period, [0, 1)
+  float cellFraction;  // position inside the flyaway cell, [0, 1)
 };
 
-FT_FUNC PeriodPhase ftPeriodPhase(TwistRates r, float s, FiberCoord fc) {
+FT_FUNC PeriodPhase ftPeriodPhase(YarnParams p, TwistRates r, float s, float phaseTurns) {
   // Phase of eq. 2 in turns, shifted by ½ so a period runs R_min → R_max → R_min.
-  FT_PRECISE float phase = fc.thetaTurns + s * r.migration + 0.5f;
+  FT_PRECISE float phase = phaseTurns + s * r.migration + 0.5f;
   FT_PRECISE float whole = floor(phase);
   PeriodPhase ph;
   ph.fraction = phase - whole;
-  ph.index = uint(whole);
-  if (r.migrationPeriods > 0u) ph.index = ph.index % r.migrationPeriods;
+  uint period = uint(whole);
+  if (r.migrationPeriods > 0u) period = period % r.migrationPeriods;
+  uint cells = max(p.flyawayCells, 1u);
+  FT_PRECISE float scaled = ph.fraction * float(cells);
+  FT_PRECISE float cellWhole = floor(scaled);
+  uint cell = min(uint(cellWhole), cells - 1u);
+  ph.cellFraction = clamp(scaled - float(cell), 0.0f, 1.0f);
+  ph.index = period * cells + cell;
   return ph;
 }
 
-// Everything random about one period of one fiber: a pure function of
-// (yarn, ply, fiber, period, seed), so a generator may compute it once per
-// period and reuse it for every vertex in that period.
+// Everything random about one flyaway cell of one fiber: a pure function of
+// (yarn, ply, fiber, cell, seed), so a generator may compute it once per
+// cell and reuse it for every vertex in that cell. Distances are world units
+// from the ply centre (reference-data §2: r1, r0, re as the presets mean them).
 struct FiberPeriod {
   uint type;         // FT_FIBER_MIGRATION, FT_FIBER_LOOP or FT_FIBER_HAIR
-  float loopRhoMax;  // R_max^loop (ply-disk units) for a loop period
-  float hairRadius;  // R_max^hair (ply-disk units): radius of the hair's free end
-  float hairSpan;    // fraction of the period turned into the hair
-  float hairAngle;   // extra polar angle at the free end (radians)
-  uint hairAtEnd;    // 0: free end at the period start, 1: at its end
+  float loopPeak;    // r1: a loop's distance from the ply centre at the cell's middle
+  float hairEnd;     // r0 + re: the hair's free end
+  float hairRoot;    // r0: where the hair joins its fiber
+  float hairSpan;    // fraction of the cell that is the hair (axial extent ze)
+  float hairAngle;   // extra polar angle at the free end (radians, pe)
+  uint hairAtEnd;    // 0: free end at the cell start, 1: at its end
 };
 
 FT_FUNC FiberPeriod ftFiberPeriod(YarnParams p, TwistRates r, uint yarn, uint ply, uint fiber, uint period) {
@@ -128,35 +152,51 @@ FT_FUNC FiberPeriod ftFiberPeriod(YarnParams p, TwistRates r, uint yarn, uint pl
             : u < p.loopProbability + p.hairProbability ? FT_FIBER_HAIR
                                                         : FT_FIBER_MIGRATION;
   fp.hairAtEnd = r0.y & 1u;
-  fp.loopRhoMax = p.rhoMax + abs(ftNormal(r0.z, r0.w, p.loopR1Mu, p.loopR1Sigma)) / p.ellipseN;
+  fp.loopPeak = abs(ftNormal(r0.z, r0.w, p.loopR1Mu, p.loopR1Sigma));
   float ze = abs(ftNormal(r0.z, r0.w, p.hairZeMu, p.hairZeSigma));
-  fp.hairSpan = clamp(ze * r.migration, 0.05f, 0.95f);
-  fp.hairRadius = p.rhoMax + (abs(ftNormal(r1.x, r1.y, p.hairR0Mu, p.hairR0Sigma)) +
-                              abs(ftNormal(r1.z, r1.w, p.hairReMu, p.hairReSigma))) / p.ellipseN;
+  // Cell length 1 / (migration · cells); the hair keeps ≥ 5 % of the cell to rejoin.
+  fp.hairSpan = clamp(ze * r.migration * float(max(p.flyawayCells, 1u)), 1.0e-3f, 0.95f);
+  fp.hairRoot = abs(ftNormal(r1.x, r1.y, p.hairR0Mu, p.hairR0Sigma));
+  fp.hairEnd = fp.hairRoot + abs(ftNormal(r1.z, r1.w, p.hairReMu, p.hairReSigma));
   fp.hairAngle = abs(ftNormal(r2.x, r2.y, p.hairPeMu, p.hairPeSigma));
   return fp;
 }
 
+// Distance from the ply centre of the point R·(cos a e_N, sin a e_B).
+FT_FUNC float ftEllipseScale(YarnParams p, float angle) {
+  return length(vec2(cos(angle) * p.ellipseN, sin(angle) * p.ellipseB));
+}
+
 // Point of fiber `fc` in ply frame `pf` at length coordinate s, given its
-// period: Δc_i of §3.1 added to the ply centre.
+// cell: Δc_i of §3.1 added to the ply centre. Migration fibers follow eq. 2.
+// A loop cell lifts the fiber to distance r1 at the cell's middle (never
+// below its own radius); a hair cell runs from its free end at r0 + re
+// linearly to r0 over the axial extent ze, then back to the fiber over the
+// rest of the cell. Flyaway distances are world distances from the ply centre.
 FT_FUNC vec3 ftFiberPosition(YarnParams p, TwistRates r, YarnFrame f, PlyFrame pf, float s, FiberCoord fc,
                              PeriodPhase ph, FiberPeriod fp) {
   FT_PRECISE float fiberTurns = fract(fc.thetaTurns + s * r.fiber);
   float angle = FT_TWO_PI * p.fiberTwistSign * fiberTurns;  // θ_i + θ of eq. 1
-  float rhoMax = fp.type == FT_FIBER_LOOP ? fp.loopRhoMax : p.rhoMax;
-  float radius = ftMigrationRadius(p, fc.radius, rhoMax, ph.fraction);
+  float radius = ftMigrationRadius(p, fc.radius, p.rhoMax, ph.fraction);
 
-  if (fp.type == FT_FIBER_HAIR) {
-    // Part of the period becomes a hair: from its free end at R_max^hair the
-    // radius runs linearly back to the migration radius where it rejoins.
-    float span = fp.hairSpan;
-    float fromFreeEnd = fp.hairAtEnd != 0u ? 1.0f - ph.fraction : ph.fraction;
-    if (fromFreeEnd < span) {
-      float w = fromFreeEnd / span;
-      float join = ftMigrationRadius(p, fc.radius, p.rhoMax, fp.hairAtEnd != 0u ? 1.0f - span : span);
-      radius = mix(fp.hairRadius, join, w);
-      angle += fp.hairAngle * (1.0f - w);
+  if (fp.type != FT_FIBER_MIGRATION) {
+    float own = radius * ftEllipseScale(p, angle);  // the fiber's own distance from the ply centre
+    float dist = own;
+    if (fp.type == FT_FIBER_LOOP) {
+      float bump = 0.5f * (1.0f - cos(FT_TWO_PI * ph.cellFraction));
+      dist = own + bump * max(fp.loopPeak - own, 0.0f);
+    } else {
+      float fromFreeEnd = fp.hairAtEnd != 0u ? 1.0f - ph.cellFraction : ph.cellFraction;
+      if (fromFreeEnd < fp.hairSpan) {
+        float w = fromFreeEnd / fp.hairSpan;
+        dist = mix(fp.hairEnd, fp.hairRoot, w);
+        angle += fp.hairAngle * (1.0f - w);
+      } else {
+        float v = (fromFreeEnd - fp.hairSpan) / (1.0f - fp.hairSpan);
+        dist = mix(own, fp.hairRoot, 0.5f + 0.5f * cos(FT_PI * v));
+      }
     }
+    radius = dist / ftEllipseScale(p, angle);
   }
 
 #ifdef FT_FAULT_ELLIPSE_SWAP

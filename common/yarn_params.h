@@ -30,25 +30,25 @@ struct YarnParams {
   float rhoMax;               // R_max of eq. 2
   float coreRadius;           // core fiber radius in ply-disk units (farthest core fiber at rhoMax)
 
-  float loopProbability;      // P(period is a loop fiber)
-  float hairProbability;      // P(period is a hair fiber)
-  float loopR1Mu;             // loop radius r1 (world units), normal
+  float loopProbability;      // P(flyaway cell is a loop): loops expected per cell (<= 0.5 with hairs)
+  float hairProbability;      // P(flyaway cell is a hair): hairs expected per cell
+  float loopR1Mu;             // loop peak distance r1 from the ply centre (world units), normal
   float loopR1Sigma;
 
   float hairZeMu;             // hair axial extent (world units along the yarn), normal
   float hairZeSigma;
-  float hairR0Mu;             // hair start radius (world units), normal
+  float hairR0Mu;             // hair root distance r0 from the ply centre (world units), normal
   float hairR0Sigma;
 
-  float hairReMu;             // hair radial extent (world units), normal
+  float hairReMu;             // hair radial extent re (world units): the free end at r0 + re, normal
   float hairReSigma;
   float hairPeMu;             // hair angular extent (radians), normal
   float hairPeSigma;
 
   float boundRadius;          // max distance of any fiber point from the yarn axis (culling margin)
   uint seed;
-  uint pad0;
-  uint pad1;
+  uint flyawayCells;          // flyaway cells per migration period (>= 1; 1 = the paper's one per period)
+  uint migrationPhase;        // FT_MIGRATION_PHASE_INDEPENDENT (presets) or FT_MIGRATION_PHASE_FIBER_ANGLE (eq. 2)
 };
 FT_ASSERT_OFFSET(YarnParams, plyRadius, 16)
 FT_ASSERT_OFFSET(YarnParams, plyTurnsPerLength, 32)

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <regex>
@@ -20,9 +24,20 @@ struct Registry {
   std::vector<ShaderSource> files;  // id = index + 1
 
   Registry() {
+    // FT_SHADER_DIR=<dir>: each embedded "shaders/<file>" is read from <dir>/<file>
+    // instead when that file exists (edit-and-rerun of shaders without a rebuild;
+    // scripts/mutation_test.py). common/ headers stay embedded: the C++ side
+    // compiles them too, so a change there needs a rebuild anyway.
+    const char* dir = std::getenv("FT_SHADER_DIR");
     for (std::size_t i = 0; i < detail::kEmbeddedFileCount; ++i) {
       const detail::EmbeddedFile& f = detail::kEmbeddedFiles[i];
-      files.push_back({f.name, std::string(f.text, f.size)});
+      std::string text(f.text, f.size);
+      std::string_view name(f.name);
+      if (dir && *dir && name.rfind("shaders/", 0) == 0) {
+        std::ifstream in(std::filesystem::path(dir) / std::string(name.substr(8)), std::ios::binary);
+        if (in) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      }
+      files.push_back({f.name, std::move(text)});
     }
   }
   static Registry& get() {

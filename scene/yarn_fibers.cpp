@@ -10,6 +10,12 @@
 
 namespace ft {
 
+namespace {
+// Expected flyaways (loops + hairs) per cell at most: at least half the cells
+// of a fiber stay regular migration (000_cc9bd0fbd0e08a03.txt §3.1).
+constexpr double kMaxFlyawaysPerCell = 0.5;
+}  // namespace
+
 std::vector<FiberCoord> makeFiberTable(const YarnPreset& preset, uint32_t seed) {
   const double e = std::exp(1.0);
   auto density = [&](double r) {  // p(R) of reference-data §2
@@ -46,6 +52,8 @@ void checkFiberOptions(const YarnPreset& preset, const FiberOptions& options) {
   if (options.maxSubdivisions < 1 || options.maxSubdivisions > FT_MAX_SUBDIVISIONS)
     throw InputError(fmt::format("--subdivisions: {} is outside [1, {}]", options.maxSubdivisions,
                                  FT_MAX_SUBDIVISIONS));
+  if (options.migrationPhase != FT_MIGRATION_PHASE_INDEPENDENT && options.migrationPhase != FT_MIGRATION_PHASE_FIBER_ANGLE)
+    throw InputError(fmt::format("--migration-phase: unknown value {}", options.migrationPhase));
   if (!(options.fiberRadius > 0.0f) || !std::isfinite(options.fiberRadius))
     throw InputError(fmt::format("--fiber-radius: {} must be a positive number", options.fiberRadius));
 }
@@ -78,15 +86,20 @@ YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord
 
   const double periodsPerLength = preset.sI / preset.alpha;
   double pLoop = 0.0, pHair = 0.0;
+  uint32_t cells = 1;
   if (p.regularFibers > 0 && periodsPerLength > 0.0) {
-    pLoop = 1.0 - std::exp(-preset.loopDensity / (p.regularFibers * periodsPerLength));
-    pHair = 1.0 - std::exp(-preset.hairDensity / (p.regularFibers * periodsPerLength));
-    if (pLoop + pHair > 1.0) {
-      const double scale = 1.0 / (pLoop + pHair);
-      pLoop *= scale;
-      pHair *= scale;
-    }
+    const double perPeriodLoop = preset.loopDensity / (p.regularFibers * periodsPerLength);
+    const double perPeriodHair = preset.hairDensity / (p.regularFibers * periodsPerLength);
+    const double wanted = std::max(1.0, std::ceil((perPeriodLoop + perPeriodHair) / kMaxFlyawaysPerCell));
+    if (!(wanted <= 4096.0))
+      throw InputError(fmt::format("yarn preset {}: {} flyaway cells per migration period (at most 4096)",
+                                   preset.name, wanted));
+    cells = static_cast<uint32_t>(wanted);
+    pLoop = perPeriodLoop / cells;
+    pHair = perPeriodHair / cells;
   }
+  p.flyawayCells = cells;
+  p.migrationPhase = options.migrationPhase;
   p.loopProbability = static_cast<float>(pLoop);
   p.hairProbability = static_cast<float>(pHair);
   p.loopR1Mu = static_cast<float>(preset.loopR1.mu);
@@ -100,13 +113,14 @@ YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord
   p.hairPeMu = static_cast<float>(preset.hairPe.mu);
   p.hairPeSigma = static_cast<float>(preset.hairPe.sigma);
 
-  // Largest fiber radius any period can reach (normal draws are clamped to
-  // mu ± 3σ in common/rng.h), in ply-disk units, then in world units.
+  // Largest distance any fiber point can reach (normal draws are clamped to
+  // mu ± 3σ in common/rng.h).
+  // Loops and hairs are world distances from the ply centre (r1; r0 + re).
   auto maxAbs = [](NormalParam n) { return std::abs(n.mu) + 3.0 * n.sigma; };
-  const double loopMax = preset.rhoMax + maxAbs(preset.loopR1) / preset.ellipseShort;
-  const double hairMax = preset.rhoMax + (maxAbs(preset.hairR0) + maxAbs(preset.hairRe)) / preset.ellipseShort;
-  const double rMax = std::max({preset.rhoMax, loopMax, hairMax});
-  const double reach = preset.yarnRadius / 2.0 + std::max(preset.ellipseLong, preset.ellipseShort) * rMax;
+  const double regularMax = std::max(preset.ellipseLong, preset.ellipseShort) * preset.rhoMax;
+  const double loopMax = maxAbs(preset.loopR1);
+  const double hairMax = maxAbs(preset.hairR0) + maxAbs(preset.hairRe);
+  const double reach = preset.yarnRadius / 2.0 + std::max({regularMax, loopMax, hairMax});
   p.boundRadius = static_cast<float>(reach * 1.001 + options.fiberRadius);  // 0.1%: float rounding of the hull
   p.seed = options.seed;
   return p;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/constants.h"
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
 #include "scene/yarn_preset.h"
@@ -17,6 +18,10 @@ struct FiberOptions {
   float fiberRadius = 0.0008f;        // drawn fiber half-width at the preset's own scale (8 µm if units are cm)
   uint32_t seed = 1;
   float yarnRadius = 0.0f;            // yarn radius to fit the preset to; 0: estimated from the model (yarn_radius.h)
+  // Phase of eq. 2: FT_MIGRATION_PHASE_INDEPENDENT (a random phase per fiber, as
+  // the presets were fitted) or FT_MIGRATION_PHASE_FIBER_ANGLE (θ_i, as eq. 2 of
+  // 000_cc9bd0fbd0e08a03.txt writes it). common/fiber_geometry.h.
+  uint32_t migrationPhase = FT_MIGRATION_PHASE_INDEPENDENT;
 };
 
 // Rejection-samples `preset.fiberNum` fiber positions in the unit ply disk with
@@ -30,11 +35,14 @@ std::vector<FiberCoord> makeFiberTable(const YarnPreset& preset, uint32_t seed);
 void checkFiberOptions(const YarnPreset& preset, const FiberOptions& options);
 
 // Fills YarnParams. Loop and hair fibers: the preset gives densities per unit
-// length of ply; each regular fiber has preset.sI/alpha migration periods per
-// unit length, so a period is a loop with probability 1 - exp(-λ_loop),
-// λ_loop = loop_density·alpha / (regular fibers·s_i) (Poisson: at least one
-// loop in the period), likewise hair; both are scaled down together if they
-// would sum past 1. Throws InputError for options out of range.
+// length of ply (reference-data §2), shared by the regular fibers. Flyaways
+// are tied to migration periods (000_cc9bd0fbd0e08a03.txt §3.1): each period
+// of each regular fiber is cut into `flyawayCells` equal cells, as few as keep
+// the expected flyaways per cell ≤ ½ (1 = the paper's one type per period),
+// and a cell is a loop with probability λ_loop = loop_density / (regular
+// fibers · cells per unit length), a hair with λ_hair likewise: the expected
+// counts per unit length equal the preset densities exactly. Throws
+// InputError for options out of range.
 YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord>& table,
                           const FiberOptions& options);
 

@@ -233,7 +233,7 @@ TEST(FiberGeometry, PeriodTypeFrequenciesMatchTheirProbabilities) {
   for (int i = 0; i < n; ++i) {
     FiberCoord fc{0.9f, 0.0f};
     const float s = (float(i % 400) + 0.25f) / r.migration;  // period i%400 of fiber i/400
-    FiberPeriod fp = ftFiberPeriod(p, r, 3u, 0u, uint(i / 400), ftPeriodPhase(r, s, fc).index);
+    FiberPeriod fp = ftFiberPeriod(p, r, 3u, 0u, uint(i / 400), ftPeriodPhase(p, r, s, fc.thetaTurns).index);
     loops += fp.type == FT_FIBER_LOOP;
     hairs += fp.type == FT_FIBER_HAIR;
   }

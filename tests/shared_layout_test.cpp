@@ -33,7 +33,7 @@ namespace {
   X(fiberRadius) X(plyTurnsPerLength) X(fiberTurnsPerLength) X(plyTwistSign) X(fiberTwistSign) \
   X(migrationS) X(rhoMin) X(rhoMax) X(coreRadius) X(loopProbability) X(hairProbability) X(loopR1Mu) \
   X(loopR1Sigma) X(hairZeMu) X(hairZeSigma) X(hairR0Mu) X(hairR0Sigma) X(hairReMu) X(hairReSigma) \
-  X(hairPeMu) X(hairPeSigma) X(boundRadius) X(seed) X(pad0) X(pad1)
+  X(hairPeMu) X(hairPeSigma) X(boundRadius) X(seed) X(flyawayCells) X(migrationPhase)
 #define FT_VIEW_PARAMS_MEMBERS(X) \
   X(viewProj) X(frustumPlanes) X(cameraPos) X(lodThresholdPx) X(lodEnabled) X(cullEnabled) X(chordErrorPx)
 #define FT_CONTROL_POINT_MEMBERS(X) X(positionLength)

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fmt/format.h>
 #include <iostream>
+#include <map>
 
 #include "gpu/gl_context.h"
 #include "scene/bcc_reader.h"
@@ -59,6 +60,12 @@ void addFiberOptions(CLI::App* app, ft::FiberOptions& f, bool yarnRadius = true)
   app->add_option("--seed", f.seed, "seed of the fiber table and fiber types")
       ->capture_default_str()
       ->check(kUnsignedInteger);
+  app->add_option("--migration-phase", f.migrationPhase,
+                  "phase of eq. 2: independent (random per fiber, as the presets were fitted; default) or "
+                  "fiber-angle (θ_i, as eq. 2 writes it)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, uint32_t>{{"independent", FT_MIGRATION_PHASE_INDEPENDENT},
+                                          {"fiber-angle", FT_MIGRATION_PHASE_FIBER_ANGLE}}));
 }
 
 ft::GlBackend parseBackend(const std::string& s) {
