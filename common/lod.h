@@ -97,6 +97,7 @@ FT_FUNC float ftLegAngle(vec3 a, vec3 b) {
 // Twist rates are the preset's; closed curves round them by < ½ turn per
 // loop (fiber_geometry.h), which changes the bound by a fraction of a percent.
 FT_FUNC float ftSubdivisionEstimate(YarnParams p, ViewParams v, YarnSegment seg) {
+  if (!(v.chordErrorPx > 0.0f)) return float(p.maxSubdivisions);  // 0: always the cap (full detail)
   vec3 b0 = vec3(seg.b0);
   vec3 b1 = vec3(seg.b1);
   vec3 b2 = vec3(seg.b2);

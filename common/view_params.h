@@ -13,7 +13,7 @@ struct ViewParams {
   float lodThresholdPx;     // ω^LoD in pixels
   uint lodEnabled;          // 0: λ = 1 everywhere
   uint cullEnabled;         // 0: no frustum culling
-  float chordErrorPx;       // target chord error of the fiber polylines, pixels (lod.h: subdivisions)
+  float chordErrorPx;       // target chord error of the fiber polylines, pixels (lod.h); 0: always the subdivision cap
 };
 FT_ASSERT_OFFSET(ViewParams, frustumPlanes, 64)
 FT_ASSERT_OFFSET(ViewParams, cameraPos, 160)

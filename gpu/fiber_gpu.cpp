@@ -54,6 +54,7 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
     : defines_(std::move(defines)),
       maxTessGenLevel_(std::min(gl.maxTessGenLevel, 64)),
       maxPatchVertices_(gl.renderer.find("llvmpipe") != std::string::npos ? kLlvmpipeMaxPatchVertices : 0),
+      maxGroupsX_(std::clamp(gl.maxComputeWorkGroupCount[0], 1, 65535)),
       maxGroupsY_(gl.maxComputeWorkGroupCount[1]),
       maxGroupsZ_(gl.maxComputeWorkGroupCount[2]) {
   framesProgram_ = Program(buildProgram({"shaders/yarn_frames.comp.glsl"}, defines_));
@@ -201,7 +202,7 @@ void FiberGpu::generateCompute() {
 void FiberGpu::dispatchFlat(GLuint program, size_t items, size_t groupSize, const char* what) {
   if (items == 0) return;
   const size_t groups = (items + groupSize - 1) / groupSize;
-  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
+  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, static_cast<size_t>(maxGroupsX_)));
   const uint32_t groupsY = checkedGroups(groups, groupsX, maxGroupsY_, what);
   setUint(program, "groupsX", groupsX);
   glDispatchCompute(groupsX, groupsY, 1);
@@ -242,6 +243,10 @@ DrawElementsCommand FiberGpu::readDrawCommand() const {
 
 std::vector<FiberVertex> FiberGpu::readComputeVertices() const {
   return readBack<FiberVertex>(vertices_.id(), readDrawCommand().vertexTotal);
+}
+
+std::vector<uint32_t> FiberGpu::readComputeIndices() const {
+  return readBack<uint32_t>(indices_.id(), readDrawCommand().count);
 }
 
 size_t FiberGpu::tessellationCapacity() const { return xfbCapacityLines_; }

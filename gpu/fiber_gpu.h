@@ -61,6 +61,8 @@ class FiberGpu {
   void generateCompute();
   std::vector<SegmentDecision> readDecisions() const;
   std::vector<FiberVertex> readComputeVertices() const;
+  // The line-strip index buffer the indirect draw reads (DrawElementsCommand::count entries).
+  std::vector<uint32_t> readComputeIndices() const;
   DrawElementsCommand readDrawCommand() const;
 
   // Tessellation path, captured with transform feedback and rasterizer
@@ -93,6 +95,7 @@ class FiberGpu {
   std::vector<std::string> defines_;
   int maxTessGenLevel_ = 64;
   int maxPatchVertices_ = 0;  // 0: no limit
+  int maxGroupsX_ = 65535;  // flat dispatches fill x rows of at most this many groups, then y
   int maxGroupsY_ = 65535;
   int maxGroupsZ_ = 65535;
   Program framesProgram_, decideProgram_, ownersProgram_, samplesProgram_, scanProgram_, generateProgram_;

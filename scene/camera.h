@@ -26,7 +26,8 @@ struct Camera {
 
 // Default target chord error of fiber polylines on screen (common/lod.h):
 // a quarter pixel keeps the drawn curve within the pixel that the exact
-// curve covers, so no kink shows at any distance.
+// curve covers, so no kink shows at any distance. 0 draws every segment
+// with the --subdivisions cap (tests that need a fixed count).
 inline constexpr float kDefaultChordErrorPx = 0.25f;
 
 ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled,

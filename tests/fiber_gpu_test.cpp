@@ -71,6 +71,33 @@ TEST_F(FiberGpuTest, KnotFramesMatchTheCpu) {
     EXPECT_LT(glm::length(vec3(g[i].normal) - vec3(frames_[i].normal)), 1e-5f) << "knot " << i;
 }
 
+// Flat dispatches past one row of work groups: a device that allowed only 3
+// groups along x would run every compute pass (decide, scan, owners,
+// samples, generate) in rows along y. No real model needs the 65,535 × 64
+// invocations that take llvmpipe there, so the limit is lowered instead; the
+// output must not change by a bit.
+TEST_F(FiberGpuTest, DispatchesSpreadOverRowsGiveTheSameVertices) {
+  gpu_->generateCompute();
+  const std::vector<FiberVertex> wide = gpu_->readComputeVertices();
+  GlInfo narrowInfo = context_->info();
+  narrowInfo.maxComputeWorkGroupCount[0] = 3;
+  FiberGpu narrow(narrowInfo);
+  narrow.setModel(buffers_, table_);
+  narrow.setParams(params_, view_);
+  narrow.setSegmentList({});
+  narrow.generateCompute();
+  const std::vector<FiberVertex> rows = narrow.readComputeVertices();
+  ASSERT_GT(wide.size(), 3u * 64u * 4u);  // several rows in every pass
+  ASSERT_EQ(rows.size(), wide.size());
+  for (size_t i = 0; i < wide.size(); ++i) {
+    ASSERT_EQ(rows[i].position, wide[i].position) << "vertex " << i;
+    ASSERT_EQ(rows[i].id, wide[i].id) << "vertex " << i;
+  }
+  const std::vector<FrameNormal> fw = gpu_->readFrames(), fr = narrow.readFrames();
+  ASSERT_EQ(fr.size(), fw.size());
+  for (size_t i = 0; i < fw.size(); ++i) ASSERT_EQ(fr[i].normal, fw[i].normal) << "knot " << i;
+}
+
 // Decisions are discrete: equal, except λ itself (ulps).
 TEST_F(FiberGpuTest, DecisionsMatchTheCpu) {
   gpu_->generateCompute();

@@ -75,7 +75,7 @@ StraightRun runStraight(const char* name, FiberOptions options, int curves, doub
   run.table = makeFiberTable(*run.preset, options.seed);
   run.params = makeYarnParams(*run.preset, run.table, options);
   FiberInput input{&buffers, &run.table, run.params,
-                   makeViewParams(frameModel(model, {0, 1, 1}, 320, 240), 1.0f, false, false)};
+                   makeViewParams(frameModel(model, {0, 1, 1}, 320, 240), 1.0f, false, false, 0.0f)};
   run.geometry = generateFibersCpu(input, computeKnotFramesCpu(buffers));
   return run;
 }
@@ -761,7 +761,7 @@ TEST(OracleFiber, ClosedYarnLengthAndSeams) {
   const YarnPreset& preset = findYarnPreset("rayon2");
   const std::vector<FiberCoord> table = makeFiberTable(preset, 1);
   const YarnParams params = makeYarnParams(preset, table, optionsWith(8, 2, FT_MIGRATION_PHASE_INDEPENDENT));
-  FiberInput input{&buffers, &table, params, makeViewParams(frameModel(model, {0, 1, 1}, 320, 240), 1.0f, false, false)};
+  FiberInput input{&buffers, &table, params, makeViewParams(frameModel(model, {0, 1, 1}, 320, 240), 1.0f, false, false, 0.0f)};
   const FiberGeometry g = generateFibersCpu(input, computeKnotFramesCpu(buffers));
   // Per fiber strip: the first vertex of segment 0 and the last of the last segment coincide.
   std::map<uint32_t, glm::dvec3> first, last;

@@ -113,6 +113,47 @@ Metric exact(std::string name, double value, std::string why) {
   return Metric{std::move(name), value, 0.0, "count", std::move(why), true};
 }
 
+// What the compute path's indirect draw will read: its index buffer must be
+// one run per fiber strip, each run the strip's vertices 0..n of one
+// (segment, ply, fiber) in order, closed by the restart index, every strip
+// exactly once. Returns the runs and strips that break it.
+uint64_t malformedStrips(const std::vector<uint32_t>& indices, const std::vector<FiberVertex>& vertices,
+                         std::string& notes) {
+  uint64_t bad = 0;
+  auto note = [&](const std::string& what) {
+    if (bad++ < 3) notes += "indices: " + what + "\n";
+  };
+  std::set<std::pair<uint32_t, uint32_t>> strips, drawn;
+  for (const FiberVertex& v : vertices) strips.insert({v.id.y, v.id.z});
+  std::vector<uint32_t> run;
+  for (size_t i = 0; i <= indices.size(); ++i) {
+    if (i < indices.size() && indices[i] != FT_RESTART_INDEX) {
+      run.push_back(indices[i]);
+      continue;
+    }
+    if (i == indices.size() && run.empty()) break;
+    if (run.empty()) {
+      note(fmt::format("empty run at {}", i));
+      continue;
+    }
+    if (i == indices.size()) note("the last run has no restart index");
+    bool ok = run.size() >= 2;
+    for (size_t k = 0; ok && k < run.size(); ++k) {
+      ok = run[k] < vertices.size() && vertices[run[k]].id.y == vertices[run[0]].id.y &&
+           vertices[run[k]].id.z == vertices[run[0]].id.z && ((vertices[run[k]].id.w >> 8u) & 0xFFu) == k;
+    }
+    if (!ok) {
+      note(fmt::format("run ending at {} is not one strip's vertices 0..n", i));
+    } else if (!drawn.insert({vertices[run[0]].id.y, vertices[run[0]].id.z}).second) {
+      note(fmt::format("segment {} fiber {:#x} drawn twice", vertices[run[0]].id.y, vertices[run[0]].id.z));
+    }
+    run.clear();
+  }
+  for (const auto& st : strips)
+    if (!drawn.count(st)) note(fmt::format("segment {} fiber {:#x} never drawn", st.first, st.second));
+  return bad;
+}
+
 struct FiberCaseSpec {
   const YarnPreset* preset;
   LodDistance lod;
@@ -152,6 +193,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   gpu.setSegmentList(list);
   std::vector<FiberVertex> gpuVertices;
   std::vector<SegmentDecision> gpuDecisions;
+  std::vector<uint32_t> gpuIndices;
   GpuTimer timer(ctx.gl());  // glFinish + clock on llvmpipe, timer queries on real GPUs
   timer.begin();
   if (spec.tessellation) {
@@ -163,6 +205,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
     r.gpuMilliseconds = timer.endMs();
     gpuDecisions = gpu.readDecisions();
     gpuVertices = gpu.readComputeVertices();
+    gpuIndices = gpu.readComputeIndices();
   }
   r.gpuTiming = timer.method();
 
@@ -272,6 +315,14 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   if (!spec.tessellation)
     r.metrics.push_back(Metric{"lambda.max_abs", lambdaMax, 1e-5, "λ",
                                "λ² scales counts ≤ 4096 through ceil(): 1e-5 moves them by < 0.1", true});
+  if (!spec.tessellation) {
+    std::string indexNotes;
+    const uint64_t malformed = malformedStrips(gpuIndices, gpuVertices, indexNotes);
+    notes += indexNotes;
+    r.metrics.push_back(exact("indices.malformed", double(malformed),
+                              "the index buffer the draw reads holds every fiber strip once, vertices 0..n in order, "
+                              "each run closed by a restart"));
+  }
   r.details = notes + firstCpuNonFinite + firstGpuNonFinite + cmp.firstMismatches;
   r.finish();
 

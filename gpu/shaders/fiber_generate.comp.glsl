@@ -40,5 +40,9 @@ void main() {
     vertices[vertexBase + v] = cv.vertex;
     indices[indexBase + v] = vertexBase + v;
   }
+#ifdef FT_FAULT_RESTART_DROPPED
+  indices[indexBase + d.subdivisions + 1u] = vertexBase + d.subdivisions;  // the next strip joins on
+#else
   indices[indexBase + d.subdivisions + 1u] = FT_RESTART_INDEX;
+#endif
 }
