@@ -238,7 +238,7 @@ def checks_for(rel, args, copy, build):
     report = os.path.join(build, "mutation-report")
     knit = is_knit(rel) or rel.startswith("knit/")
     fiber_file = not knit
-    filt = "knit" if knit else "fiber|frames"
+    filt = "knit" if knit else "fiber|frames|closeup|strip-width"
     if rel.startswith("common/") and not knit and os.path.basename(rel) in ("prelude.h", "constants.h"):
         filt = "."
     harness = ["harness", [fib, "validate", "--no-images", "--filter", filt, "--report", report] + args.validate_args.split(), {}]
