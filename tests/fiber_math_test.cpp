@@ -261,6 +261,18 @@ TEST(Lod, LambdaFollowsEquation4AndIsContinuous) {
   }
 }
 
+// Eq. 4's middle branch at interior points, against values worked out by
+// hand from the printed formula λ = (ω_f/ω_L)·(ω_p − ω_L)/(ω_p − ω_f):
+//   ω_f = 0.5, ω_p = 4.5, ω_L = 1:   0.5 · 3.5/4 = 0.4375
+//   ω_f = 0.5, ω_p = 4.5, ω_L = 2.5: 0.2 · 2/4   = 0.1
+//   ω_f = 1,   ω_p = 3,   ω_L = 2:   0.5 · 1/2   = 0.25
+// (the endpoints alone cannot tell a wrong exponent or a swapped ratio).
+TEST(Lod, LambdaInteriorValuesByHand) {
+  EXPECT_NEAR(ftLodLambda(0.5f, 4.5f, 1.0f), 0.4375f, 1e-6f);
+  EXPECT_NEAR(ftLodLambda(0.5f, 4.5f, 2.5f), 0.1f, 1e-6f);
+  EXPECT_NEAR(ftLodLambda(1.0f, 3.0f, 2.0f), 0.25f, 1e-6f);
+}
+
 // Culling is conservative: no fiber point of a culled segment is inside the
 // view frustum.
 TEST(Lod, CulledSegmentsHaveNoVisibleFiberPoint) {
