@@ -273,6 +273,63 @@ TEST(Lod, LambdaInteriorValuesByHand) {
   EXPECT_NEAR(ftLodLambda(1.0f, 3.0f, 2.0f), 0.25f, 1e-6f);
 }
 
+// The subdivision bound of docs/pictures.md, evaluated here in double from
+// its written form, on a straight and a bent segment seen from 5 units:
+//   n = sqrt(|x''| · ppu / (8 ε)),
+//   |x''| ≤ 6 max|b_i − 2b_{i+1} + b_{i+2}| + R_ply (ω_ply + Θ)² + R_fib (ω_ply + ω_fib + Θ)² + A_mig ω_mig²,
+// ω = 2π · turns per length · Δs, Θ the control polygon's turning,
+// R_fib = max(e_N, e_B)·ρ_max, A_mig = ½(ρ_max − ρ_min)·R_fib.
+TEST(Lod, SubdivisionBoundAsDocumented) {
+  YarnParams p{};
+  p.plyCount = 2;
+  p.maxSubdivisions = 64;
+  p.plyRadius = 0.02f;
+  p.ellipseN = 0.015f;
+  p.ellipseB = 0.02f;
+  p.rhoMin = 0.8f;
+  p.rhoMax = 1.0f;
+  p.plyTurnsPerLength = 2.0f;
+  p.fiberTurnsPerLength = 3.0f;
+  p.migrationS = 1.5f;
+  Camera cam;
+  cam.eye = {0.1f, 0.1f, 5.0f};
+  cam.target = {0.1f, 0.1f, 0.0f};
+  const ViewParams v = makeViewParams(cam, 1.0f, false, false, 0.25f);
+  const double ppu = cam.pixelsPerUnitAtDepth1() / 5.0;
+  auto expected = [&](double centre, double turning, double ds) {
+    const double wPly = 2.0 * M_PI * 2.0 * ds, wFib = 2.0 * M_PI * 3.0 * ds, wMig = 1.5 * wFib;
+    const double rFib = 0.02 * 1.0, aMig = 0.5 * (1.0 - 0.8) * rFib;
+    const double accel = centre + 0.02 * (wPly + turning) * (wPly + turning) +
+                         rFib * (wPly + wFib + turning) * (wPly + wFib + turning) + aMig * wMig * wMig;
+    return std::sqrt(accel * ppu / (8.0 * 0.25));
+  };
+  YarnSegment straight{};
+  straight.b0 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  straight.b1 = vec4(0.125f, 0.0f, 0.0f, 1.0f);  // binary fractions: the centre term is exactly 0
+  straight.b2 = vec4(0.25f, 0.0f, 0.0f, 1.0f);
+  straight.b3 = vec4(0.375f, 0.0f, 0.0f, 1.0f);
+  straight.s0 = 1.0f;
+  straight.s1 = 1.375f;
+  EXPECT_NEAR(ftSubdivisionEstimate(p, v, straight) / expected(0.0, 0.0, 0.375), 1.0, 1e-5);
+  // Bent by 45° at b1 and at b2: |b0 − 2b1 + b2| = |b1 − 2b2 + b3| = 0.1, Θ = π/2.
+  YarnSegment bent{};
+  bent.b0 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  bent.b1 = vec4(0.1f, 0.0f, 0.0f, 1.0f);
+  bent.b2 = vec4(0.2f, 0.1f, 0.0f, 1.0f);
+  bent.b3 = vec4(0.2f, 0.2f, 0.0f, 1.0f);
+  bent.s0 = 0.0f;
+  bent.s1 = 0.25f;
+  EXPECT_NEAR(ftSubdivisionEstimate(p, v, bent) / expected(0.6, M_PI / 2.0, 0.25), 1.0, 1e-5);
+  // Twice the distance: half the pixels per unit, 1/√2 the subdivisions.
+  Camera far = cam;
+  far.eye.z = 10.0f;
+  EXPECT_NEAR(ftSubdivisionEstimate(p, makeViewParams(far, 1.0f, false, false, 0.25f), bent) /
+                  ftSubdivisionEstimate(p, v, bent),
+              1.0 / std::sqrt(2.0), 1e-5);
+  // ε = 0: always the cap.
+  EXPECT_EQ(ftSubdivisionEstimate(p, makeViewParams(cam, 1.0f, false, false, 0.0f), bent), 64.0f);
+}
+
 // Culling is conservative: no fiber point of a culled segment is inside the
 // view frustum.
 TEST(Lod, CulledSegmentsHaveNoVisibleFiberPoint) {
