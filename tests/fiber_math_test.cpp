@@ -313,10 +313,10 @@ TEST(Lod, SubdivisionBoundAsDocumented) {
   EXPECT_NEAR(ftSubdivisionEstimate(p, v, straight) / expected(0.0, 0.0, 0.375), 1.0, 1e-5);
   // Bent by 45° at b1 and at b2: |b0 − 2b1 + b2| = |b1 − 2b2 + b3| = 0.1, Θ = π/2.
   YarnSegment bent{};
-  bent.b0 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  bent.b1 = vec4(0.1f, 0.0f, 0.0f, 1.0f);
-  bent.b2 = vec4(0.2f, 0.1f, 0.0f, 1.0f);
-  bent.b3 = vec4(0.2f, 0.2f, 0.0f, 1.0f);
+  bent.b0 = vec4(1.0f, 0.5f, 0.0f, 1.0f);  // away from the origin: b1 − b0 ≠ b1 + b0
+  bent.b1 = vec4(1.1f, 0.5f, 0.0f, 1.0f);
+  bent.b2 = vec4(1.2f, 0.6f, 0.0f, 1.0f);
+  bent.b3 = vec4(1.2f, 0.7f, 0.0f, 1.0f);
   bent.s0 = 0.0f;
   bent.s1 = 0.25f;
   EXPECT_NEAR(ftSubdivisionEstimate(p, v, bent) / expected(0.6, M_PI / 2.0, 0.25), 1.0, 1e-5);
