@@ -74,20 +74,6 @@ bool hairBreak(const uvec4& a, const uvec4& b) {
   return periodChange && ((a.w & 0xFFu) == FT_FIBER_HAIR || (b.w & 0xFFu) == FT_FIBER_HAIR);
 }
 
-const FiberSetup& closeupSetup(ValidationContext& ctx, const YarnPreset& preset) {
-  auto& slot = ctx.cache()["closeup-preset/" + preset.name];
-  if (!slot)
-    slot = std::make_shared<FiberSetup>(
-        fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber));
-  return *static_cast<FiberSetup*>(slot.get());
-}
-
-const std::vector<FrameNormal>& framesCpu(ValidationContext& ctx) {
-  auto& slot = ctx.cache()["frames"];  // the same entry and type as fiber_cases.cpp
-  if (!slot) slot = std::make_shared<std::vector<FrameNormal>>(computeKnotFramesCpu(ctx.buffers()));
-  return *static_cast<std::vector<FrameNormal>*>(slot.get());
-}
-
 // One drawn fiber piece: a strip of one segment, vertices by index.
 struct Strip {
   uint32_t segment = 0;
@@ -102,7 +88,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   r.group = "closeup";
   r.path = tessellation ? "tessellation" : "compute";
   const HarnessOptions& o = ctx.options();
-  const FiberSetup& s = closeupSetup(ctx, preset);
+  const FiberSetup& s = ctx.fiberSetup(preset);
   const YarnParams& p = s.params;
   const int width = o.lodWidth, height = o.lodHeight;
   const Camera camera = closeupCamera(ctx.model(), width, height);
@@ -113,7 +99,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   const float lodThreshold = 2.0f * ftScreenWidthsAt(p, probe, camera.target).x;
   const ViewParams view = makeViewParams(camera, lodThreshold, true, true);
   const YarnBuffers& y = ctx.buffers();
-  const std::vector<FrameNormal>& frames = framesCpu(ctx);
+  const std::vector<FrameNormal>& frames = ctx.cpuFrames();
 
   // The segments the camera sees (the CPU's culling decision; the
   // cross-check cases compare decisions), nearest first, up to the budget.

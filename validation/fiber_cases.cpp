@@ -47,20 +47,6 @@ struct CpuRun {
   double milliseconds = 0.0;
 };
 
-const FiberSetup& presetSetup(ValidationContext& ctx, const YarnPreset& preset) {
-  auto& slot = ctx.cache()["preset/" + preset.name];
-  if (!slot)
-    slot = std::make_shared<FiberSetup>(
-        fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber));
-  return *static_cast<FiberSetup*>(slot.get());
-}
-
-const std::vector<FrameNormal>& cpuFrames(ValidationContext& ctx) {
-  auto& slot = ctx.cache()["frames"];
-  if (!slot) slot = std::make_shared<std::vector<FrameNormal>>(computeKnotFramesCpu(ctx.buffers()));
-  return *static_cast<std::vector<FrameNormal>*>(slot.get());
-}
-
 // The tessellation path is ~100× slower than compute on llvmpipe
 // (reference-data §5): on big models its cases use a fixed subset — the
 // segments nearest the LoD target plus an even stride over the rest.
@@ -166,7 +152,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   r.group = "fiber";
   r.path = spec.tessellation ? "tessellation" : "compute";
   const HarnessOptions& o = ctx.options();
-  const FiberSetup& ps = presetSetup(ctx, *spec.preset);
+  const FiberSetup& ps = ctx.fiberSetup(*spec.preset);
   const YarnParams& params = ps.params;
   const Camera camera = lodCamera(ctx.model(), params, spec.lod, o.lodThresholdPx, o.lodWidth, o.lodHeight);
   const ViewParams view = makeViewParams(camera, o.lodThresholdPx, true, true);
@@ -179,7 +165,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
     auto run = std::make_shared<CpuRun>();
     FiberInput input{&ctx.buffers(), &ps.table, params, view};
     const auto t0 = Clock::now();
-    run->geometry = generateFibersCpu(input, cpuFrames(ctx), list);
+    run->geometry = generateFibersCpu(input, ctx.cpuFrames(), list);
     run->milliseconds = msSince(t0);
     slot = run;
   }
@@ -216,7 +202,7 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
   for (size_t i = 0; i < cpu.geometry.segments.size(); ++i) {
     const uint32_t s = cpu.geometry.segments[i];
     listIndex[s] = i;
-    if (decisionAmbiguous(params, view, loadSegmentCpu(ctx.buffers(), cpuFrames(ctx), s), cpu.geometry.decisions[i]))
+    if (decisionAmbiguous(params, view, loadSegmentCpu(ctx.buffers(), ctx.cpuFrames(), s), cpu.geometry.decisions[i]))
       ambiguous.insert(s);
   }
   auto keep = [&](const FiberVertex& v) { return !ambiguous.count(v.id.y); };
@@ -347,7 +333,7 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
   r.group = "frames";
   r.path = "compute";
   const auto t0 = Clock::now();
-  const std::vector<FrameNormal>& cpu = cpuFrames(ctx);
+  const std::vector<FrameNormal>& cpu = ctx.cpuFrames();
   r.cpuMilliseconds = msSince(t0);
   FiberGpu& gpu = ctx.fiberGpu();
   const std::vector<FiberCoord> table(1, FiberCoord{0.0f, 0.0f});

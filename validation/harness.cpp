@@ -5,6 +5,7 @@
 #include <fstream>
 #include <ostream>
 
+#include "reference/fiber_reference.h"
 #include "scene/bcc_reader.h"
 #include "scene/default_scene.h"
 #include "scene/input_error.h"
@@ -60,6 +61,19 @@ ValidationContext::~ValidationContext() {
 KnitGpu& ValidationContext::knitGpu() {
   if (!knitGpu_) knitGpu_ = std::make_unique<KnitGpu>(context_->info(), defines_);
   return *knitGpu_;
+}
+
+const FiberSetup& ValidationContext::fiberSetup(const YarnPreset& preset) {
+  auto& slot = cache_["preset/" + preset.name];
+  if (!slot)
+    slot = std::make_shared<FiberSetup>(fitFibers(preset, yarnRadius_, yarnRadiusSource_, options_.fiber));
+  return *static_cast<FiberSetup*>(slot.get());
+}
+
+const std::vector<FrameNormal>& ValidationContext::cpuFrames() {
+  auto& slot = cache_["frames"];
+  if (!slot) slot = std::make_shared<std::vector<FrameNormal>>(computeKnotFramesCpu(buffers_));
+  return *static_cast<std::vector<FrameNormal>*>(slot.get());
 }
 
 std::string ValidationContext::modelLabel() const {

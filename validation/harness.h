@@ -67,6 +67,11 @@ class ValidationContext {
   std::vector<const YarnPreset*> presets() const;
   // Writes an image into the report folder, returns its relative name.
   std::string saveImage(const RgbaImage& image, const std::string& stem);
+  // The preset fitted to yarnRadius() with its fiber table and YarnParams
+  // (scene/yarn_radius.h), built once per preset.
+  const FiberSetup& fiberSetup(const YarnPreset& preset);
+  // The CPU reference's knot frames of the model, computed once.
+  const std::vector<FrameNormal>& cpuFrames();
   // Per-key cache for CPU results shared by cases (e.g. both GPU paths).
   std::map<std::string, std::shared_ptr<void>>& cache() { return cache_; }
 
