@@ -145,6 +145,8 @@ RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
     summary.allPassed = summary.allPassed && r.pass;
     passed += r.pass;
   }
+  summary.yarnRadius = ctx.yarnRadius();
+  summary.yarnRadiusSource = ctx.yarnRadiusSource();
   writeReport(options, ctx.gl(), ctx.modelLabel(), summary);
   log << fmt::format("{} passed, {} failed ({:.1f} s); report: {}\n", passed, summary.results.size() - passed,
                      summary.seconds, (options.reportDir / "index.html").string());

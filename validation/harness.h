@@ -95,6 +95,8 @@ void addKnitCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 
 struct RunSummary {
   std::vector<CaseResult> results;
+  double yarnRadius = 0.0;        // the radius every preset was fitted to (0: each at its own scale)
+  std::string yarnRadiusSource;
   bool allPassed = false;
   double seconds = 0.0;
 };

@@ -219,6 +219,8 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
                    {"max_tess_gen_level", gl.maxTessGenLevel}};
   j["fiber_options"] = {{"regular_fibers_per_ply", options.fiber.regularFibersPerPly},
                         {"max_subdivisions", options.fiber.maxSubdivisions},
+                        {"yarn_radius", run.yarnRadius},
+                        {"yarn_radius_source", run.yarnRadiusSource},
                         {"fiber_radius", options.fiber.fiberRadius},
                         {"seed", options.fiber.seed},
                         {"lod_view", fmt::format("{}x{}", options.lodWidth, options.lodHeight)},
@@ -285,10 +287,12 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
                               escape(gl.version), escape(gl.glslVersion), escape(gl.backend),
                               gl.isSoftware ? " (software)" : ""));
   row("Model", escape(model));
-  row("Fibers", fmt::format("{} regular fibers per ply, {} subdivisions, fiber radius {}, seed {}; LoD view {}×{}, "
-                            "threshold {} px",
+  row("Fibers", fmt::format("{} regular fibers per ply, at most {} subdivisions (the screen decides), fiber radius {} "
+                            "at the preset's scale, seed {}; presets fitted to yarn radius {:.4g} ({}); LoD view "
+                            "{}×{}, threshold {} px",
                             options.fiber.regularFibersPerPly, options.fiber.maxSubdivisions,
-                            options.fiber.fiberRadius, options.fiber.seed, options.lodWidth, options.lodHeight,
+                            options.fiber.fiberRadius, options.fiber.seed, run.yarnRadius,
+                            escape(run.yarnRadiusSource), options.lodWidth, options.lodHeight,
                             options.lodThresholdPx));
   if (!options.filter.empty()) row("Filter", "<code>" + escape(options.filter) + "</code>");
   if (!options.inject.empty()) {
