@@ -38,6 +38,7 @@ using glm::ivec2; using glm::ivec4; using glm::mat4;
 using glm::abs; using glm::clamp; using glm::cos; using glm::cross; using glm::dot; using glm::floor;
 using glm::fract; using glm::length; using glm::max; using glm::min; using glm::mix; using glm::sin;
 using glm::sqrt; using glm::exp; using glm::log; using glm::ceil; using glm::atan;
+using glm::asin; using glm::acos; using glm::pow;
 typedef std::uint32_t uint;
 }  // namespace ft
 #define FT_NAMESPACE_BEGIN namespace ft {
