@@ -9,6 +9,7 @@
 #define FT_UBO_VIEW_PARAMS 1
 #define FT_UBO_DISPATCH 2
 #define FT_UBO_KNIT_PARAMS 3
+#define FT_UBO_SHADING 4
 
 // Shader-storage bindings (std430).
 #define FT_SSBO_CONTROL_POINTS 0
@@ -32,6 +33,9 @@
 #define FT_SSBO_KNIT_YARN_LIST 18
 #define FT_SSBO_KNIT_VERTICES 19
 #define FT_SSBO_FRAME_CARRY 20
+#define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/fiber_shading.h)
+#define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
+#define FT_SSBO_BCSDF_OUTPUT 23    // their results
 
 // Work-group sizes (local_size_x).
 #define FT_WG_FRAMES 64
@@ -46,6 +50,7 @@
 #define FT_WG_SAMPLES 64
 #define FT_WG_KNIT 64
 #define FT_WG_KNIT_UPSAMPLE 64
+#define FT_WG_BCSDF 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu
