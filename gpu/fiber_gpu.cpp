@@ -347,68 +347,139 @@ size_t FiberGpu::captureTessellation() {
 
 std::vector<FiberVertex> FiberGpu::readTessellationLines() const { return readBack<FiberVertex>(xfb_.id(), 2 * xfbLines_); }
 
+// A 4× multisampled colour + depth target and its single-sampled resolve.
+struct MultisampleTarget {
+  Framebuffer ms = Framebuffer::create(), resolve = Framebuffer::create();
+  Renderbuffer msColor = Renderbuffer::create(), depth = Renderbuffer::create(), resolveColor = Renderbuffer::create();
+  int width, height;
+
+  MultisampleTarget(int w, int h, GLenum colorFormat) : width(w), height(h) {
+    glNamedRenderbufferStorageMultisample(msColor.id(), 4, colorFormat, w, h);
+    glNamedRenderbufferStorageMultisample(depth.id(), 4, GL_DEPTH_COMPONENT24, w, h);
+    glNamedRenderbufferStorage(resolveColor.id(), colorFormat, w, h);
+    glNamedFramebufferRenderbuffer(ms.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColor.id());
+    glNamedFramebufferRenderbuffer(ms.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.id());
+    glNamedFramebufferRenderbuffer(resolve.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor.id());
+  }
+  void begin(glm::vec4 clear) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, ms.id());
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glClearColor(clear.x, clear.y, clear.z, clear.w);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+  // Resolves and reads the colour back with row 0 at the top (GL's is the bottom).
+  template <class T>
+  std::vector<T> end(GLenum type) const {
+    glBlitNamedFramebuffer(ms.id(), resolve.id(), 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
+    const size_t row = static_cast<size_t>(width) * 4;
+    std::vector<T> rows(row * height), out(row * height);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve.id());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, type, rows.data());
+    for (int y = 0; y < height; ++y)
+      std::copy_n(rows.data() + static_cast<size_t>(height - 1 - y) * row, row, out.data() + static_cast<size_t>(y) * row);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_DEPTH_TEST);
+    return out;
+  }
+};
+
+FiberGpu::~FiberGpu() = default;
+
 template <class Draw>
 RgbaImage FiberGpu::renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw) {
-  // Multisampled colour + depth, resolved into a single-sampled colour target.
-  const Framebuffer msFbo = Framebuffer::create(), resolveFbo = Framebuffer::create();
-  const Renderbuffer msColor = Renderbuffer::create(), depth = Renderbuffer::create(),
-                     resolveColor = Renderbuffer::create();
-  glNamedRenderbufferStorageMultisample(msColor.id(), 4, GL_RGBA8, width, height);
-  glNamedRenderbufferStorageMultisample(depth.id(), 4, GL_DEPTH_COMPONENT24, width, height);
-  glNamedRenderbufferStorage(resolveColor.id(), GL_RGBA8, width, height);
-  glNamedFramebufferRenderbuffer(msFbo.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColor.id());
-  glNamedFramebufferRenderbuffer(msFbo.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.id());
-  glNamedFramebufferRenderbuffer(resolveFbo.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor.id());
-  glBindFramebuffer(GL_FRAMEBUFFER, msFbo.id());
-  glViewport(0, 0, width, height);
-  glEnable(GL_DEPTH_TEST);
-  glClearColor(style.background.x, style.background.y, style.background.z, 1.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const MultisampleTarget target(width, height, GL_RGBA8);
+  target.begin(glm::vec4(style.background, 1.0f));
   bindCommon();
   glUseProgram(program);
+  setUint(program, "shaded", 0u);
   glProgramUniform3f(program, glGetUniformLocation(program, "lightDir"), style.lightDir.x, style.lightDir.y,
                      style.lightDir.z);
   glProgramUniform3f(program, glGetUniformLocation(program, "baseColor"), style.baseColor.x, style.baseColor.y,
                      style.baseColor.z);
   glBindVertexArray(vao_.id());
   draw();
-  glBlitNamedFramebuffer(msFbo.id(), resolveFbo.id(), 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  RgbaImage img{width, height, std::vector<uint8_t>(static_cast<size_t>(width) * height * 4)};
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, resolveFbo.id());
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  std::vector<uint8_t> rows(img.pixels.size());
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
-  for (int y = 0; y < height; ++y)  // GL's row 0 is the bottom
-    std::copy_n(rows.data() + static_cast<size_t>(height - 1 - y) * width * 4, width * 4,
-                img.pixels.data() + static_cast<size_t>(y) * width * 4);
+  return RgbaImage{width, height, target.end<uint8_t>(GL_UNSIGNED_BYTE)};
+}
+
+void FiberGpu::drawShaded(Path path, int width, int height) {
+  if (!ambientTable_) throw std::logic_error("FiberGpu: setShading() before a shaded render");
+  const GLuint program = path == Path::Compute ? stripDrawProgram_.id() : tessDrawProgram_.id();
+  if (path == Path::Compute) generateCompute();
+  // 32-bit float: the ground-truth comparison needs more than half's 11 bits.
+  if (!shadedTarget_ || shadedTarget_->width != width || shadedTarget_->height != height)
+    shadedTarget_ = std::make_unique<MultisampleTarget>(width, height, GL_RGBA32F);
+  shadedTarget_->begin(glm::vec4(glm::vec3(shading_.background), 0.0f));
+  bindCommon();
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING, shadingUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
+  glUseProgram(program);
+  setUint(program, "shaded", 1u);
+  glBindVertexArray(vao_.id());
+  if (path == Path::Compute) drawCompute(program);
+  else drawTessellation(program);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glDisable(GL_DEPTH_TEST);
+}
+
+ImageRgbaF FiberGpu::readShaded() const {
+  if (!shadedTarget_) throw std::logic_error("FiberGpu: readShaded() before drawShaded()");
+  ImageRgbaF img;
+  img.width = shadedTarget_->width;
+  img.height = shadedTarget_->height;
+  img.pixels = shadedTarget_->end<float>(GL_FLOAT);
   return img;
+}
+
+void FiberGpu::setShading(const ShadingParams& shading, std::span<const glm::vec3> ambientTable) {
+  if (ambientTable.size() != FT_AMBIENT_TABLE_SIZE)
+    throw std::invalid_argument(fmt::format("ambient table: {} texels, expected {}", ambientTable.size(),
+                                            FT_AMBIENT_TABLE_SIZE));
+  shading_ = shading;
+  replaceBuffer(shadingUbo_, sizeof(ShadingParams), &shading);
+  std::vector<glm::vec4> texels;
+  for (const glm::vec3& a : ambientTable) texels.emplace_back(a, 0.0f);
+  replaceBuffer(ambientTable_, texels.size() * sizeof(glm::vec4), texels.data());
+}
+
+void FiberGpu::drawCompute(GLuint program) {
+  setUint(program, "vertexTotal", readDrawCommand().vertexTotal);
+  glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_.id());
+  glDrawElementsIndirect(GL_LINE_STRIP, GL_UNSIGNED_INT, nullptr);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+}
+
+void FiberGpu::drawTessellation(GLuint program) {
+  setUint(program, "linesPerPatch", linesPerPatch());
+  setUint(program, "instanceOffset", 0u);
+  glPatchParameteri(GL_PATCH_VERTICES, 4);
+  const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
+  const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch() - 1) / linesPerPatch());
+  glDrawArraysInstanced(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_), instances);
 }
 
 RgbaImage FiberGpu::renderCompute(int width, int height, const RenderStyle& style) {
   generateCompute();
-  const uint32_t vertexTotal = readDrawCommand().vertexTotal;
-  return renderWith(width, height, style, stripDrawProgram_.id(), [&] {
-    setUint(stripDrawProgram_.id(), "vertexTotal", vertexTotal);
-    glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_.id());
-    glDrawElementsIndirect(GL_LINE_STRIP, GL_UNSIGNED_INT, nullptr);
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-    glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-  });
+  return renderWith(width, height, style, stripDrawProgram_.id(), [&] { drawCompute(stripDrawProgram_.id()); });
 }
 
 RgbaImage FiberGpu::renderTessellation(int width, int height, const RenderStyle& style) {
-  return renderWith(width, height, style, tessDrawProgram_.id(), [&] {
-    setUint(tessDrawProgram_.id(), "linesPerPatch", linesPerPatch());
-    setUint(tessDrawProgram_.id(), "instanceOffset", 0u);
-    glPatchParameteri(GL_PATCH_VERTICES, 4);
-    const uint32_t slots = params_.plyCount * (1u + params_.regularFibers);
-    const GLsizei instances = static_cast<GLsizei>((slots + linesPerPatch() - 1) / linesPerPatch());
-    glDrawArraysInstanced(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_), instances);
-  });
+  return renderWith(width, height, style, tessDrawProgram_.id(), [&] { drawTessellation(tessDrawProgram_.id()); });
+}
+
+ImageRgbaF FiberGpu::renderComputeShaded(int width, int height) {
+  drawShaded(Path::Compute, width, height);
+  return readShaded();
+}
+
+ImageRgbaF FiberGpu::renderTessellationShaded(int width, int height) {
+  drawShaded(Path::Tessellation, width, height);
+  return readShaded();
 }
 
 RgbaImage FiberGpu::renderVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions,

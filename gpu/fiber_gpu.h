@@ -12,16 +12,19 @@
 #include <epoxy/gl.h>
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_objects.h"
+#include "image/image.h"
 #include "scene/fiber_input.h"
 
 namespace ft {
@@ -44,6 +47,7 @@ class FiberGpu {
   // limits (GL_MAX_TESS_GEN_LEVEL, work-group counts) come from `gl`.
   // GL objects are RAII owners (gpu/gl_objects.h): destroy before the context.
   FiberGpu(const GlInfo& gl, std::vector<std::string> defines = {});
+  ~FiberGpu();
   FiberGpu(const FiberGpu&) = delete;
   FiberGpu& operator=(const FiberGpu&) = delete;
 
@@ -83,6 +87,19 @@ class FiberGpu {
   RgbaImage renderVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions,
                            int width, int height, const RenderStyle& style);
 
+  // Shaded images (000 §4.3, common/fiber_shading.h): linear HDR radiance,
+  // alpha = the fraction of the pixel the fibers cover (4× multisampling,
+  // shading once per pixel per fiber). `ambientTable` holds A(θ_o) at the
+  // FT_AMBIENT_TABLE_SIZE texel centres (bcsdf.h).
+  void setShading(const ShadingParams& shading, std::span<const glm::vec3> ambientTable);
+  ImageRgbaF renderComputeShaded(int width, int height);
+  ImageRgbaF renderTessellationShaded(int width, int height);
+  // One shaded frame into a kept target, without the read-back: what a frame
+  // costs (the benches time this); readShaded() then returns it.
+  enum class Path { Compute, Tessellation };
+  void drawShaded(Path path, int width, int height);
+  ImageRgbaF readShaded() const;
+
  private:
   void decideAndScan();  // passes 1-2: decisions, offsets and totals of the listed segments
   void ensureComputeCapacity();
@@ -91,6 +108,8 @@ class FiberGpu {
   void bindCommon() const;
   template <class Draw>
   RgbaImage renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw);
+  void drawCompute(GLuint program);
+  void drawTessellation(GLuint program);
 
   std::vector<std::string> defines_;
   int maxTessGenLevel_ = 64;
@@ -102,7 +121,9 @@ class FiberGpu {
   Program tessCaptureProgram_, tessDrawProgram_, stripDrawProgram_;
   VertexArray vao_;
   Framebuffer captureFbo_;  // attachment-less: surfaceless contexts have no default framebuffer
-  Buffer yarnUbo_, viewUbo_;
+  Buffer yarnUbo_, viewUbo_, shadingUbo_, ambientTable_;
+  ShadingParams shading_{};
+  std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
   Buffer points_, curves_, segments_, frames_, table_, list_;
   Buffer frameCarry_;  // per curve: the normal carried between frame chunks, the holonomy
   Buffer decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_;

@@ -22,6 +22,7 @@
 #include "validation/faults.h"
 #include "validation/harness.h"
 #include "validation/knit_command.h"
+#include "validation/render_command.h"
 #include "validation/report.h"
 
 namespace {
@@ -94,6 +95,65 @@ std::string shellQuote(const std::string& s) {
   return q + "'";
 }
 
+// The options `render` and `trace` share, as typed (vectors parsed later).
+// Defaults come from ft::ViewOptions / ft::Lighting, written once there.
+std::string vec3Text(glm::vec3 v) {
+  return v.x == v.y && v.y == v.z ? fmt::format("{:g}", v.x) : fmt::format("{:g},{:g},{:g}", v.x, v.y, v.z);
+}
+struct ViewOptionText {
+  ft::ViewOptions defaults;
+  std::string model, view = vec3Text(defaults.viewDir), light = vec3Text(defaults.lighting.lights[0].direction),
+                     irradiance = vec3Text(defaults.lighting.lights[0].irradiance),
+                     ambient = vec3Text(defaults.lighting.ambient), diffuse = vec3Text(defaults.lighting.diffuse),
+                     tone = "aces";
+};
+
+void addViewOptions(CLI::App* app, ft::ViewOptions& v, ViewOptionText& text) {
+  app->add_option("--model", text.model, "BCC yarn model (default: the built-in scene)");
+  app->add_option("--yarn", v.yarn, "yarn preset")->capture_default_str();
+  app->add_option("--fabric", v.lighting.fabric, "fiber scattering preset: fleece, gabardine, silk, cotton, polyester")
+      ->capture_default_str();
+  app->add_option("--shading", v.lighting.model, "khungurn (000 eq. 6 with the ambient table) or simple (eq. 5)")
+      ->capture_default_str();
+  app->add_option("--out", v.out, "output: .exr writes the linear EXR and a tone-mapped PNG beside it; .png the PNG only")
+      ->capture_default_str();
+  app->add_option("--width", v.width)->capture_default_str()->check(CLI::Range(16, 8192));
+  app->add_option("--height", v.height)->capture_default_str()->check(CLI::Range(16, 8192));
+  app->add_option("--light", text.light, "direction towards the (one) directional light, x,y,z")->capture_default_str();
+  app->add_option("--light-irradiance", text.irradiance, "its irradiance: one value or r,g,b")->capture_default_str();
+  app->add_option("--ambient", text.ambient, "uniform ambient radiance L_amb: one value or r,g,b")->capture_default_str();
+  app->add_option("--diffuse", text.diffuse, "k_d of the diffuse term 000 adds to the BCSDF: one value or r,g,b")
+      ->capture_default_str();
+  app->add_option("--exposure", v.display.exposure, "PNG only: exposure in stops before tone mapping")
+      ->capture_default_str();
+  app->add_option("--tonemap", text.tone, "PNG only: aces or clamp")->capture_default_str();
+  app->add_option("--view", text.view, "direction from the model towards the camera, x,y,z")->capture_default_str();
+  app->add_option("--distance", v.distance,
+                  "frame (whole model), closeup (a yarn segment spans ~60 px), near, mid or far (LoD distances)")
+      ->capture_default_str();
+  addFiberOptions(app, v.fiber);
+}
+
+glm::vec3 parseColor(const std::string& s, const char* option) {
+  glm::vec3 c;
+  char tail = 0;
+  if (std::sscanf(s.c_str(), "%f,%f,%f%c", &c.x, &c.y, &c.z, &tail) == 3) return c;
+  if (std::sscanf(s.c_str(), "%f%c", &c.x, &tail) == 1) return glm::vec3(c.x);
+  throw ft::InputError(fmt::format("{}: '{}' is neither a number nor r,g,b", option, s));
+}
+
+void finishViewOptions(ft::ViewOptions& v, const ViewOptionText& text) {
+  if (!text.model.empty()) v.model = text.model;
+  v.viewDir = parseVec3(text.view, "--view");
+  v.lighting.lights = {ft::DirectionalLight{parseVec3(text.light, "--light"), parseColor(text.irradiance, "--light-irradiance")}};
+  v.lighting.ambient = parseColor(text.ambient, "--ambient");
+  v.lighting.diffuse = parseColor(text.diffuse, "--diffuse");
+  if (text.tone == "aces") v.display.tone = ft::ToneMap::Aces;
+  else if (text.tone == "clamp") v.display.tone = ft::ToneMap::Clamp;
+  else throw ft::InputError(fmt::format("--tonemap: '{}' is neither aces nor clamp", text.tone));
+  if (!std::isfinite(v.display.exposure)) throw ft::InputError("--exposure: not a finite number");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -117,26 +177,31 @@ int main(int argc, char** argv) {
   validate->add_flag("!--no-images", vo.images, "skip the report thumbnails");
   addFiberOptions(validate, vo.fiber);
 
-  ft::FiberOptions ro;
-  std::string outPath = "fibertwin.png", pathName = "compute", light = "0.3,0.8,0.5", view = "0.3,0.5,1", distance =
-                                                                                                              "frame";
-  int width = 1280, height = 960;
-  auto* render = app.add_subcommand("render", "render a yarn model with procedural fibers to a PNG");
-  render->add_option("--model", modelPath, "BCC yarn model (default: the built-in scene)");
-  render->add_option("--yarn", yarn, "yarn preset")->capture_default_str();
-  render->add_option("--out", outPath, "output PNG")->capture_default_str();
-  render->add_option("--width", width)->capture_default_str()->check(CLI::Range(16, 8192));
-  render->add_option("--height", height)->capture_default_str()->check(CLI::Range(16, 8192));
-  render->add_option("--path", pathName, "compute or tessellation")->capture_default_str();
-  render->add_option("--light", light, "direction towards the light, x,y,z")->capture_default_str();
-  render->add_option("--view", view, "direction from the model towards the camera, x,y,z")->capture_default_str();
-  render->add_option("--distance", distance, "frame (whole model), closeup (a yarn segment spans ~60 px), near, mid or far (LoD distances)")
-      ->capture_default_str();
+  ft::RenderCommandOptions ro;
+  ViewOptionText renderText;
+  std::string renderShading;
+  auto* render = app.add_subcommand("render", "render a yarn model with procedural fibers on the GPU: shaded EXR + PNG");
+  addViewOptions(render, ro.view, renderText);
+  render->add_option("--path", ro.path, "compute or tessellation")->capture_default_str();
+  render->add_flag("--preview", ro.preview, "the harness thumbnails' preview style instead of the BCSDF (PNG only)");
   render->add_option("--backend", backend, "GL backend");
-  std::string renderInject;
-  render->add_option("--inject", renderInject,
+  render->add_option("--inject", ro.inject,
                      "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");
-  addFiberOptions(render, ro);
+
+  ft::TraceCommandOptions to;
+  ViewOptionText traceText;
+  auto* trace = app.add_subcommand(
+      "trace", "ray-trace the same view with Embree (every fiber a round curve): the ground truth, EXR + PNG");
+  addViewOptions(trace, to.view, traceText);
+  trace->add_option("--spp", to.samplesPerPixel, "samples per pixel")->capture_default_str()->check(CLI::Range(1, 65536));
+  trace->add_flag("!--no-shadows", to.shadows, "no shadow rays (the configuration the GPU render matches)");
+  trace->add_flag("--multiple-scattering", to.multipleScattering,
+                  "path-trace multiple scattering; the ambient then comes from escaping rays")
+      ->capture_default_str();
+  trace->add_option("--max-depth", to.maxDepth, "path length cap with --multiple-scattering")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
+  trace->add_option("--trace-seed", to.seed, "seed of the pixel samples")->capture_default_str()->check(kUnsignedInteger);
 
   ft::KnitCommandOptions ko;
   std::vector<std::string> knitMeshes;
@@ -214,48 +279,19 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (render->parsed()) {
-      if (pathName != "compute" && pathName != "tessellation")
-        throw ft::InputError(fmt::format("--path: '{}' is neither compute nor tessellation", pathName));
-      const ft::YarnModel model = modelPath.empty() ? ft::makeDefaultScene() : ft::readBcc(modelPath);
-      const ft::YarnBuffers buffers = ft::buildYarnBuffers(model);
-      const ft::YarnPreset& preset = ft::findYarnPreset(yarn.empty() ? "cotton1" : yarn);
-      const ft::FittedFibers fibers = ft::fitFibers(preset, model, ro);
-      const ft::YarnParams& params = fibers.params;
-      std::cout << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fibers.fit.scale,
-                               fibers.fit.radius, fibers.fit.source);
-      ft::Camera cam;
-      if (distance == "frame") cam = ft::frameModel(model, parseVec3(view, "--view"), width, height);
-      else if (distance == "near") cam = ft::lodCamera(model, params, ft::LodDistance::Near, 1.0f, width, height);
-      else if (distance == "mid") cam = ft::lodCamera(model, params, ft::LodDistance::Mid, 1.0f, width, height);
-      else if (distance == "far") cam = ft::lodCamera(model, params, ft::LodDistance::Far, 1.0f, width, height);
-      else if (distance == "closeup") cam = ft::closeupCamera(model, width, height);
-      else throw ft::InputError(fmt::format("--distance: '{}' is not frame, closeup, near, mid or far", distance));
-      ft::RenderStyle style;
-      style.lightDir = glm::normalize(parseVec3(light, "--light"));
-      auto ctx = ft::GlContext::create(parseBackend(backend));
-      const ft::GlInfo& g = ctx->info();
-      std::vector<std::string> defines;
-      if (!renderInject.empty()) {
-        const ft::Fault* f = ft::findFault(renderInject);
-        if (!f) throw ft::InputError(fmt::format("--inject: unknown fault '{}' (see `fibertwin faults`)", renderInject));
-        defines.push_back(f->define);
-        if (f->shared) ft::setSharedFault(f->define, true);
-      }
-      ft::FiberGpu gpu(g, defines);
-      gpu.setModel(buffers, fibers.table);
-      ft::checkBeforeDrawing(model.name, buffers, gpu.readFrames());  // no partial image from NaN frames
-      gpu.setParams(params, ft::makeViewParams(cam, 1.0f, true, true));
-      const auto t0 = std::chrono::steady_clock::now();
-      const ft::RgbaImage img = pathName == "compute" ? gpu.renderCompute(width, height, style)
-                                                      : gpu.renderTessellation(width, height, style);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      ft::writePng(outPath, img);
-      std::cout << fmt::format("{}: {} yarn curves, {} segments, yarn {}, {} path, {} ms on {}\n", outPath,
-                               model.curves.size(), buffers.segments.size(), preset.name, pathName,
-                               static_cast<int>(ms), g.renderer);
-      return 0;
+      finishViewOptions(ro.view, renderText);
+      if (ro.preview && ro.view.out.extension() == ".exr") ro.view.out.replace_extension(".png");
+      ro.backend = parseBackend(backend);
+      return ft::runRenderCommand(ro, std::cout);
+    }
+    if (trace->parsed()) {
+      finishViewOptions(to.view, traceText);
+      return ft::runTraceCommand(to, std::cout);
     }
   } catch (const ft::InputError& e) {
+    std::cerr << "fibertwin: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {  // image files (image/ has no InputError)
     std::cerr << "fibertwin: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {

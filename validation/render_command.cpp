@@ -1,0 +1,118 @@
+#include "validation/render_command.h"
+
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <ostream>
+
+#include "gpu/fiber_gpu.h"
+#include "scene/bcc_reader.h"
+#include "scene/default_scene.h"
+#include "scene/input_error.h"
+#include "validation/draw_check.h"
+#include "validation/faults.h"
+#include "validation/report.h"
+#include "validation/shading_tables.h"
+
+namespace ft {
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+size_t nonFiniteValues(const ImageRgbaF& image) {
+  size_t n = 0;
+  for (float v : image.pixels) n += std::isfinite(v) ? 0 : 1;
+  return n;
+}
+
+}  // namespace
+
+PreparedView prepareView(const ViewOptions& o) {
+  const std::string ext = o.out.extension().string();
+  if (ext != ".exr" && ext != ".png")
+    throw InputError(fmt::format("--out: '{}' must end in .exr (EXR and PNG) or .png", o.out.string()));
+  PreparedView v;
+  v.model = o.model ? readBcc(*o.model) : makeDefaultScene();
+  v.buffers = buildYarnBuffers(v.model);
+  v.preset = &findYarnPreset(o.yarn);
+  v.shading = makeShadingParams(o.lighting);  // bad lighting options fail before any work
+  v.fibers = fitFibers(*v.preset, v.model, o.fiber);
+  const YarnParams& params = v.fibers.params;
+  if (o.distance == "frame") v.camera = frameModel(v.model, o.viewDir, o.width, o.height);
+  else if (o.distance == "near") v.camera = lodCamera(v.model, params, LodDistance::Near, 1.0f, o.width, o.height);
+  else if (o.distance == "mid") v.camera = lodCamera(v.model, params, LodDistance::Mid, 1.0f, o.width, o.height);
+  else if (o.distance == "far") v.camera = lodCamera(v.model, params, LodDistance::Far, 1.0f, o.width, o.height);
+  else if (o.distance == "closeup") v.camera = closeupCamera(v.model, o.width, o.height);
+  else throw InputError(fmt::format("--distance: '{}' is not frame, closeup, near, mid or far", o.distance));
+  return v;
+}
+
+ViewParams viewParamsOf(const PreparedView& v) { return makeViewParams(v.camera, 1.0f, true, true); }
+
+std::vector<std::filesystem::path> writeImage(const ViewOptions& o, const ImageRgbaF& image) {
+  std::vector<std::filesystem::path> written;
+  if (o.out.extension() == ".exr") {
+    writeExr(o.out, image, ExrPixelType::Half);
+    written.push_back(o.out);
+  }
+  std::filesystem::path png = o.out;
+  png.replace_extension(".png");
+  writePngTonemapped(png, image, o.display);
+  written.push_back(png);
+  return written;
+}
+
+int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
+  if (o.path != "compute" && o.path != "tessellation")
+    throw InputError(fmt::format("--path: '{}' is neither compute nor tessellation", o.path));
+  const PreparedView v = prepareView(o.view);
+  log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", v.preset->name,
+                     v.fibers.fit.scale, v.fibers.fit.radius, v.fibers.fit.source, o.view.lighting.fabric,
+                     o.preview ? "preview" : o.view.lighting.model);
+  auto ctx = GlContext::create(o.backend);
+  const GlInfo& g = ctx->info();
+  std::vector<std::string> defines;
+  if (!o.inject.empty()) {
+    const Fault* f = findFault(o.inject);
+    if (!f) throw InputError(fmt::format("--inject: unknown fault '{}' (see `fibertwin faults`)", o.inject));
+    defines.push_back(f->define);
+    if (f->shared) setSharedFault(f->define, true);
+  }
+  FiberGpu gpu(g, defines);
+  gpu.setModel(v.buffers, v.fibers.table);
+  checkBeforeDrawing(v.model.name, v.buffers, gpu.readFrames());  // no partial image from NaN frames
+  gpu.setParams(v.fibers.params, viewParamsOf(v));
+  const int w = o.view.width, h = o.view.height;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (o.preview) {
+    RenderStyle style;
+    style.lightDir = glm::vec3(v.shading.lightDirection[0]);
+    const RgbaImage img = o.path == "compute" ? gpu.renderCompute(w, h, style) : gpu.renderTessellation(w, h, style);
+    std::filesystem::path png = o.view.out;
+    png.replace_extension(".png");
+    writePng(png, img);
+    log << fmt::format("{}: {} yarn curves, {} segments, {} path, preview, {:.0f} ms on {}\n", png.string(),
+                       v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * secondsSince(t0), g.renderer);
+    return 0;
+  }
+  const std::vector<glm::vec3> table = bakeAmbientTableGpu(g, defines, v.shading.fabric);
+  gpu.setShading(v.shading, table);
+  const ImageRgbaF img = o.path == "compute" ? gpu.renderComputeShaded(w, h) : gpu.renderTessellationShaded(w, h);
+  const double seconds = secondsSince(t0);
+  if (const size_t bad = nonFiniteValues(img))
+    throw std::runtime_error(fmt::format("the {} path produced {} non-finite pixel values; no image written", o.path, bad));
+  const auto files = writeImage(o.view, img);
+  log << fmt::format("{}: {} yarn curves, {} segments, {} path, {:.0f} ms on {}\n", files.front().string(),
+                     v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * seconds, g.renderer);
+  return 0;
+}
+
+}  // namespace ft
+
+namespace ft {
+// MERGE-PLACEHOLDER: the trace branch brings the Embree ground truth.
+int runTraceCommand(const TraceCommandOptions&, std::ostream&) { throw std::runtime_error("trace: not built yet"); }
+}  // namespace ft
