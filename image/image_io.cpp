@@ -86,7 +86,7 @@ ImageRgbaF readExr(const std::filesystem::path& path) {
   }
 }
 
-void writePngTonemapped(const std::filesystem::path& path, const ImageRgbaF& image, const DisplayMapping& mapping) {
+std::vector<uint8_t> tonemapToRgba8(const ImageRgbaF& image, const DisplayMapping& mapping) {
   const float scale = std::exp2(mapping.exposure);
   std::vector<uint8_t> bytes(image.pixelCount() * 4);
   for (size_t i = 0; i < image.pixelCount(); ++i) {
@@ -99,6 +99,11 @@ void writePngTonemapped(const std::filesystem::path& path, const ImageRgbaF& ima
     }
     bytes[i * 4 + 3] = 255;
   }
+  return bytes;
+}
+
+void writePngTonemapped(const std::filesystem::path& path, const ImageRgbaF& image, const DisplayMapping& mapping) {
+  const std::vector<uint8_t> bytes = tonemapToRgba8(image, mapping);
   if (!stbi_write_png(path.string().c_str(), image.width, image.height, 4, bytes.data(), image.width * 4))
     throw std::runtime_error("cannot write " + path.string());
 }

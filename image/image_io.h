@@ -1,7 +1,9 @@
 // image_io.h — float images to and from files: OpenEXR (linear, half or
 // float), PNG (8-bit sRGB, tone-mapped from linear). Errors name the file.
 #pragma once
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include "image/image.h"
 
@@ -24,6 +26,8 @@ struct DisplayMapping {
   float exposure = 0.0f;  // stops
   ToneMap tone = ToneMap::Aces;
 };
+// The same mapping into RGBA8 bytes (alpha 255), row 0 at the top.
+std::vector<uint8_t> tonemapToRgba8(const ImageRgbaF& image, const DisplayMapping& mapping = {});
 void writePngTonemapped(const std::filesystem::path& path, const ImageRgbaF& image, const DisplayMapping& mapping = {});
 // 8-bit RGBA → display-referred values in [0, 1] (no sRGB decoding; FLIP decodes itself).
 ImageRgbaF readPng(const std::filesystem::path& path);

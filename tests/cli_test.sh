@@ -215,6 +215,18 @@ run_case "render --fibers-per-ply 9999" 2 "--fibers-per-ply" "9999" -- \
 run_case "render --path nosuch" 2 "--path" "nosuch" -- render --path nosuch --out "$TMP/x.png"
 run_case "render --distance nosuch" 2 "--distance" "nosuch" -- render --distance nosuch --out "$TMP/x.png"
 run_case "render --view 0,0,0" 2 "--view" -- render --view 0,0,0 --out "$TMP/x.png"
+# Shading and output options (checked before any GL context, as the view is prepared).
+fabric_names=(fleece gabardine silk cotton polyester)
+run_case "render --fabric nosuch" 2 "nosuch" "${fabric_names[@]}" -- render --fabric nosuch --out "$TMP/x.png"
+run_case "trace --fabric nosuch" 2 "nosuch" "${fabric_names[@]}" -- trace --fabric nosuch --out "$TMP/x.png"
+run_case "render --shading nosuch" 2 "--shading" "nosuch" -- render --shading nosuch --out "$TMP/x.png"
+run_case "render --ambient -1" 2 "--ambient" "-1" -- render --ambient -1 --out "$TMP/x.png"
+run_case "render --light-irradiance nan" 2 "irradiance" -- render --light-irradiance nan --out "$TMP/x.png"
+run_case "render --diffuse 1,2" 2 "--diffuse" "1,2" -- render --diffuse 1,2 --out "$TMP/x.png"
+run_case "render --tonemap nosuch" 2 "--tonemap" "nosuch" -- render --tonemap nosuch --out "$TMP/x.png"
+run_case "render --out x.jpg" 2 "--out" "x.jpg" -- render --out "$TMP/x.jpg"
+run_case "trace --spp 0" 2 "--spp" -- trace --spp 0 --out "$TMP/x.png"
+run_case "trace --view 0,0,0" 2 "--view" -- trace --view 0,0,0 --out "$TMP/x.png"
 expect_absent "render on bad options (no image)" "$TMP/x.png"
 
 # Known gap: `validate` checks --subdivisions / --fibers-per-ply inside each
@@ -227,7 +239,6 @@ run_case "validate --subdivisions 0" 2 're:--subdivisions.*\b0\b' -- \
 run_case "validate --fibers-per-ply 9999" 2 "--fibers-per-ply" "9999" -- \
   validate --fibers-per-ply 9999 --no-images --report "$TMP/report"
 rm -rf "$TMP/report"
-# Known gap: render parses --light after creating the GL context.
 run_case "render --light nan,1,1" 2 "--light" -- render --light nan,1,1 --out "$TMP/x.png"
 rm -f "$TMP/x.png"
 

@@ -114,6 +114,7 @@ RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
   addFiberCases(ctx, cases);  // one line per algorithm
   addCloseupCases(ctx, cases);
   addKnitCases(ctx, cases);
+  addShadingCases(ctx, cases);
 
   RunSummary summary;
   const GlInfo& gl = ctx.gl();

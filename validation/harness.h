@@ -55,6 +55,8 @@ class ValidationContext {
   const HarnessOptions& options() const { return options_; }
   const GlInfo& gl() const { return context_->info(); }
   FiberGpu& fiberGpu() { return *fiberGpu_; }
+  // The injected fault's define, for other GPU programs built in a case.
+  const std::vector<std::string>& defines() const { return defines_; }
   // Built on first use, with the same injected fault.
   KnitGpu& knitGpu();
   const YarnModel& model() const { return model_; }
@@ -92,6 +94,7 @@ class ValidationContext {
 void addFiberCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addCloseupCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addKnitCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+void addShadingCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 
 struct RunSummary {
   std::vector<CaseResult> results;

@@ -55,6 +55,7 @@ struct CaseResult {
   double gpuMilliseconds = 0.0;
   std::string gpuTiming;       // how gpuMilliseconds was measured
   std::vector<std::string> images;  // file names relative to the report folder
+  std::vector<std::string> imageCaptions;  // one per image; empty: "CPU reference", then "GPU <path>"
   std::string details;         // first mismatches, for a person reading the report
   void finish();               // pass := no error and every gating metric passes
 };

@@ -247,6 +247,7 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
     c["error_histogram_log10"] = {
         {"first_decade", r.histogram.firstDecade}, {"counts", r.histogram.counts}, {"metric", r.histogramMetric}};
     c["images"] = r.images;
+    if (!r.imageCaptions.empty()) c["image_captions"] = r.imageCaptions;
     if (!r.details.empty()) c["details"] = r.details;
     cases.push_back(c);
   }
@@ -376,10 +377,13 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
         << (histogramTolerance > 0 ? fmt::format(", tolerance {:.2g}", histogramTolerance) : std::string())
         << "</div>";
     h << "</td><td class='imgs'>";
-    for (size_t i = 0; i < r.images.size(); ++i)
-      h << "<figure><img src='" << escape(r.images[i]) << "' width='120' alt='" << (i == 0 ? "CPU" : "GPU")
-        << " image of " << escape(r.name) << "'><figcaption>" << (i == 0 ? "CPU reference" : "GPU " + escape(r.path))
-        << "</figcaption></figure>";
+    for (size_t i = 0; i < r.images.size(); ++i) {
+      const std::string caption = i < r.imageCaptions.size() ? r.imageCaptions[i]
+                                  : i == 0                   ? std::string("CPU reference")
+                                                             : "GPU " + r.path;
+      h << "<figure><img src='" << escape(r.images[i]) << "' width='120' alt='" << escape(caption) << ", "
+        << escape(r.name) << "'><figcaption>" << escape(caption) << "</figcaption></figure>";
+    }
     h << fmt::format("</td><td class='num'>{:.1f} / {:.1f}</td></tr>\n", r.cpuMilliseconds, r.gpuMilliseconds);
   }
   h << "</tbody></table>\n<h2>Injectable faults</h2><p class='legend'><code>fibertwin validate --inject NAME</code> "

@@ -1,0 +1,144 @@
+// shading_bench.cpp — ft_shading_bench: the cost of a shaded frame (000 §4.3:
+// the shared BCSDF per directional light plus the ambient table, common/
+// fiber_shading.h) on both GPU paths, at the three standard LoD distances, at
+// 1280×960 (000 Table 1's viewport):
+//   BM_ShadedCompute/{near,mid,far}       compute passes + indirect strip draw;
+//   BM_ShadedTessellation/{near,mid,far}  one instanced tessellated draw;
+//   BM_PreviewCompute/{near,mid,far}      the same draw with the preview shading,
+//                                         so the BCSDF's own share can be read off.
+// A frame is generation + draw into a kept 4× multisampled float target, no
+// read-back. 000 Table 1's timings (GTX 1080) are in the JSON context, for
+// scale only: a different GPU, and llvmpipe here.
+//
+// Own flags: --model=PATH (default data/yarn-models/glove.bcc), --yarn=NAME
+// (cotton1), --fabric=NAME (cotton), --width=, --height= (1280, 960).
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench/bench_flags.h"
+#include "gpu/fiber_gpu.h"
+#include "gpu/gl_context.h"
+#include "gpu/gpu_timer.h"
+#include "scene/bcc_reader.h"
+#include "scene/camera.h"
+#include "scene/input_error.h"
+#include "scene/lighting.h"
+#include "scene/yarn_radius.h"
+#include "validation/shading_tables.h"
+
+#ifndef FT_SOURCE_DIR
+#define FT_SOURCE_DIR "."
+#endif
+
+namespace {
+
+struct Setup {
+  int width = 1280, height = 960;
+  ft::YarnModel model;
+  ft::YarnBuffers buffers;
+  ft::FittedFibers fibers;
+  std::vector<std::pair<std::string, ft::ViewParams>> views;
+  std::unique_ptr<ft::GlContext> gl;
+  std::unique_ptr<ft::FiberGpu> gpu;
+  std::unique_ptr<ft::GpuTimer> timer;
+};
+Setup* g = nullptr;
+
+void BM_Shaded(benchmark::State& state, ft::FiberGpu::Path path, const ft::ViewParams* view) {
+  g->gpu->setParams(g->fibers.params, *view);
+  g->gpu->drawShaded(path, g->width, g->height);  // warm-up: shader variants, buffer sizes, the target
+  glFinish();
+  for (auto _ : state) {
+    g->timer->begin();
+    g->gpu->drawShaded(path, g->width, g->height);
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  state.counters["vertices"] = path == ft::FiberGpu::Path::Compute ? g->gpu->readDrawCommand().vertexTotal : 0;
+}
+
+void BM_Preview(benchmark::State& state, const ft::ViewParams* view) {
+  g->gpu->setParams(g->fibers.params, *view);
+  const ft::RenderStyle style;
+  g->gpu->renderCompute(g->width, g->height, style);
+  for (auto _ : state) {
+    g->timer->begin();
+    benchmark::DoNotOptimize(g->gpu->renderCompute(g->width, g->height, style));  // includes an RGBA8 read-back
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Setup setup;
+  g = &setup;
+  try {
+    std::string modelPath = FT_SOURCE_DIR "/data/yarn-models/glove.bcc", yarn = "cotton1", fabric = "cotton", n;
+    ft::takeFlag(argc, argv, "model", modelPath);
+    ft::takeFlag(argc, argv, "yarn", yarn);
+    ft::takeFlag(argc, argv, "fabric", fabric);
+    if (ft::takeFlag(argc, argv, "width", n)) setup.width = std::max(16, std::atoi(n.c_str()));
+    if (ft::takeFlag(argc, argv, "height", n)) setup.height = std::max(16, std::atoi(n.c_str()));
+    setup.model = ft::readBcc(modelPath);
+    setup.buffers = ft::buildYarnBuffers(setup.model);
+    setup.fibers = ft::fitFibers(ft::findYarnPreset(yarn), setup.model, ft::FiberOptions{});
+    ft::Lighting lighting;
+    lighting.fabric = fabric;
+    const ft::ShadingParams shading = ft::makeShadingParams(lighting);
+    for (ft::LodDistance d : {ft::LodDistance::Near, ft::LodDistance::Mid, ft::LodDistance::Far}) {
+      const ft::Camera cam = ft::lodCamera(setup.model, setup.fibers.params, d, 1.0f, setup.width, setup.height);
+      setup.views.emplace_back(ft::lodDistanceName(d), ft::makeViewParams(cam, 1.0f, true, true));
+    }
+
+    setup.gl = ft::GlContext::create(ft::glBackendFromEnv());
+    const ft::GlInfo& gi = setup.gl->info();
+    setup.gpu = std::make_unique<ft::FiberGpu>(gi);
+    setup.gpu->setModel(setup.buffers, setup.fibers.table);
+    setup.gpu->setShading(shading, ft::bakeAmbientTableGpu(gi, {}, shading.fabric));
+    setup.timer = std::make_unique<ft::GpuTimer>(gi);
+
+    benchmark::AddCustomContext("gl_renderer", gi.renderer);
+    benchmark::AddCustomContext("gpu_timing_method", setup.timer->method());
+    benchmark::AddCustomContext("model", modelPath);
+    benchmark::AddCustomContext("segments", std::to_string(setup.buffers.segments.size()));
+    benchmark::AddCustomContext("yarn", yarn);
+    benchmark::AddCustomContext("fabric", fabric);
+    benchmark::AddCustomContext("viewport", fmt::format("{}x{}, 4x MSAA, RGBA32F", setup.width, setup.height));
+    // 000 Table 1 (Wu & Yuksel 2019, GTX 1080, 1280×960), ms as close / worst / full view:
+    // not comparable hardware, context only.
+    benchmark::AddCustomContext("paper_000_table1_glove_simple_ms", "9 / 19 / 9");
+    benchmark::AddCustomContext("paper_000_table1_glove_pbs_ms", "13 / 37 / 14");
+    benchmark::AddCustomContext("paper_000_table1_gpu", "NVIDIA GTX 1080, 148K control points, 8.3M fiber curves");
+
+    for (const auto& [name, view] : setup.views) {
+      benchmark::RegisterBenchmark(fmt::format("BM_ShadedCompute/{}", name).c_str(), BM_Shaded,
+                                   ft::FiberGpu::Path::Compute, &view)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
+      benchmark::RegisterBenchmark(fmt::format("BM_ShadedTessellation/{}", name).c_str(), BM_Shaded,
+                                   ft::FiberGpu::Path::Tessellation, &view)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
+      benchmark::RegisterBenchmark(fmt::format("BM_PreviewCompute/{}", name).c_str(), BM_Preview, &view)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
+    }
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+  } catch (const ft::InputError& e) {
+    std::cerr << "ft_shading_bench: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ft_shading_bench: error: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}
