@@ -389,6 +389,8 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
                         std::span<const glm::vec3> ambientTable, const TraceOptions& options) {
   if (options.samplesPerPixel < 1)
     throw std::invalid_argument(fmt::format("traceFibers: samplesPerPixel {} < 1", options.samplesPerPixel));
+  if (options.pixelCentres && options.samplesPerPixel != 1)
+    throw std::invalid_argument(fmt::format("traceFibers: pixelCentres with {} samples per pixel", options.samplesPerPixel));
   if (options.multipleScattering && options.maxDepth < 1)
     throw std::invalid_argument(fmt::format("traceFibers: maxDepth {} < 1", options.maxDepth));
   if (camera.width < 1 || camera.height < 1)
@@ -429,7 +431,7 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
           int hits = 0;
           for (int k = 0; k < spp; ++k) {
             RandomStream rng(pixel, static_cast<uint32_t>(k), options.seed);
-            const glm::dvec2 j = pixelSample(k, spp, grid, perm, rng);
+            const glm::dvec2 j = options.pixelCentres ? glm::dvec2(0.5) : pixelSample(k, spp, grid, perm, rng);
             const glm::dvec2 ndc(2.0 * (x + j.x) / width - 1.0, 1.0 - 2.0 * (y + j.y) / height);
             const glm::dvec4 nearH = toWorld * glm::dvec4(ndc, -1.0, 1.0), farH = toWorld * glm::dvec4(ndc, 1.0, 1.0);
             const glm::dvec3 nearP = glm::dvec3(nearH) / nearH.w, span = glm::dvec3(farH) / farH.w - nearP;

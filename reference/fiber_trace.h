@@ -68,6 +68,9 @@ class FiberTraceScene {
 
 struct TraceOptions {
   int samplesPerPixel = 4;          // stratified jittered (a k×k grid when square, Latin hypercube otherwise)
+  // One sample at each pixel's centre (samplesPerPixel must be 1): where the
+  // GPU rasteriser shades, for the shading comparison (validation/shading_cases.cpp).
+  bool pixelCentres = false;
   bool shadows = true;              // trace V_i towards each light (else V_i = 1)
   bool multipleScattering = false;  // path tracing (modes in traceFibers)
   int maxDepth = 16;                // scattering events per path (multipleScattering)

@@ -5,7 +5,15 @@
 #include <fmt/format.h>
 #include <ostream>
 
+#include <tbb/task_arena.h>
+
+#include <iostream>
+#include <mutex>
+
 #include "gpu/fiber_gpu.h"
+#include "reference/bcsdf_tables.h"
+#include "reference/fiber_reference.h"
+#include "reference/fiber_trace.h"
 #include "scene/bcc_reader.h"
 #include "scene/default_scene.h"
 #include "scene/input_error.h"
@@ -110,9 +118,50 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
   return 0;
 }
 
+int runTraceCommand(const TraceCommandOptions& o, std::ostream& log) {
+  const PreparedView v = prepareView(o.view);
+  log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", v.preset->name,
+                     v.fibers.fit.scale, v.fibers.fit.radius, v.fibers.fit.source, o.view.lighting.fabric,
+                     o.view.lighting.model);
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<FrameNormal> frames = computeKnotFramesCpu(v.buffers);
+  checkBeforeDrawing(v.model.name, v.buffers, frames);
+  const FiberInput input{&v.buffers, &v.fibers.table, v.fibers.params, viewParamsOf(v)};
+  FiberTraceScene scene(generateFibersCpu(input, frames), v.fibers.params);
+  const double buildSeconds = secondsSince(t0);
+  log << fmt::format("{} fiber segments of {} fibers as Embree round curves, {:.1f} MiB, built in {:.1f} s\n",
+                     scene.segmentCount(), scene.fiberCount(), scene.bytes() / 1048576.0, buildSeconds);
+  const std::vector<glm::vec3> table = bakeAmbientTableCpu(v.shading.fabric);
+  TraceOptions t;
+  t.samplesPerPixel = o.samplesPerPixel;
+  t.shadows = o.shadows;
+  t.multipleScattering = o.multipleScattering;
+  t.maxDepth = o.maxDepth;
+  t.seed = o.seed;
+  // Progress on stderr, every 5 %, for renders that take a while.
+  std::mutex progressMutex;
+  int lastStep = -1;
+  t.progress = [&](double fraction) {
+    const std::lock_guard<std::mutex> lock(progressMutex);
+    const int step = static_cast<int>(fraction * 20.0);
+    if (step == lastStep) return;
+    lastStep = step;
+    std::cerr << fmt::format("\rtrace: {:3d}% ({:.0f} s)", step * 5, secondsSince(t0) - buildSeconds)
+              << (step == 20 ? "\n" : "") << std::flush;
+  };
+  const auto t1 = std::chrono::steady_clock::now();
+  const TraceResult r = traceFibers(scene, v.camera, v.shading, table, t);
+  const double seconds = secondsSince(t1);
+  if (r.stats.nonFinite > 0)
+    throw std::runtime_error(fmt::format("the ground truth produced {} non-finite samples; no image written",
+                                         r.stats.nonFinite));
+  const auto files = writeImage(o.view, r.image);
+  log << fmt::format("{}: {} spp, {}{}, {:.3g} rays in {:.1f} s ({:.3g} rays/s, {} threads)\n", files.front().string(),
+                     o.samplesPerPixel, o.shadows ? "shadows" : "no shadows",
+                     o.multipleScattering ? ", multiple scattering" : "", double(r.stats.rays()), seconds,
+                     r.stats.rays() / std::max(seconds, 1e-9), tbb::this_task_arena::max_concurrency());
+  return 0;
+}
+
 }  // namespace ft
 
-namespace ft {
-// MERGE-PLACEHOLDER: the trace branch brings the Embree ground truth.
-int runTraceCommand(const TraceCommandOptions&, std::ostream&) { throw std::runtime_error("trace: not built yet"); }
-}  // namespace ft
