@@ -106,10 +106,13 @@ void convolveX(const Plane& in, int width, int height, const std::vector<float>&
     const float* row = in.data() + static_cast<size_t>(y) * width;
     std::vector<float> padded(width + 2 * r);
     for (int i = 0; i < width + 2 * r; ++i) padded[i] = row[std::clamp(i - r, 0, width - 1)];
-    float* dst = out.data() + static_cast<size_t>(y) * width;
+    float* __restrict dst = out.data() + static_cast<size_t>(y) * width;
     std::fill(dst, dst + width, 0.0f);
-    for (int k = 0; k <= 2 * r; ++k)
-      for (int x = 0; x < width; ++x) dst[x] += kernel[k] * padded[x + k];
+    for (int k = 0; k <= 2 * r; ++k) {
+      const float w = kernel[k];
+      const float* __restrict src = padded.data() + k;
+      for (int x = 0; x < width; ++x) dst[x] += w * src[x];
+    }
   });
 }
 
@@ -117,11 +120,12 @@ void convolveY(const Plane& in, int width, int height, const std::vector<float>&
   const int r = static_cast<int>(kernel.size() / 2);
   out.resize(in.size());
   forEachRow(height, [&](int y) {
-    float* dst = out.data() + static_cast<size_t>(y) * width;
+    float* __restrict dst = out.data() + static_cast<size_t>(y) * width;
     std::fill(dst, dst + width, 0.0f);
     for (int k = 0; k <= 2 * r; ++k) {
-      const float* src = in.data() + static_cast<size_t>(std::clamp(y + k - r, 0, height - 1)) * width;
-      for (int x = 0; x < width; ++x) dst[x] += kernel[k] * src[x];
+      const float w = kernel[k];
+      const float* __restrict src = in.data() + static_cast<size_t>(std::clamp(y + k - r, 0, height - 1)) * width;
+      for (int x = 0; x < width; ++x) dst[x] += w * src[x];
     }
   });
 }
