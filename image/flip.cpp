@@ -302,7 +302,9 @@ void toneMap(const RgbPlanes& in, float exposure, FlipToneMapper mapper, RgbPlan
       const auto curve = [&](float x) { return (k[0] * x * x + k[1] * x + k[2]) / (k[3] * x * x + k[4] * x + k[5]); };
       t = {curve(c.x), curve(c.y), curve(c.z)};
     }
-    out.r[i] = std::clamp(t.x, 0.0f, 1.0f), out.g[i] = std::clamp(t.y, 0.0f, 1.0f), out.b[i] = std::clamp(t.z, 0.0f, 1.0f);
+    out.r[i] = std::clamp(t.x, 0.0f, 1.0f);
+    out.g[i] = std::clamp(t.y, 0.0f, 1.0f);
+    out.b[i] = std::clamp(t.z, 0.0f, 1.0f);
   }
 }
 
@@ -396,12 +398,14 @@ float flipColorMax() {
 
 FlipPooled poolFlipErrors(std::span<const float> errors, std::span<const uint8_t> mask) {
   if (!mask.empty() && mask.size() != errors.size())
-    throw std::invalid_argument(fmt::format("FLIP pooling: mask has {} values for {} pixels", mask.size(), errors.size()));
+    throw std::invalid_argument(
+        fmt::format("FLIP pooling: mask has {} values for {} pixels", mask.size(), errors.size()));
   std::vector<float> kept;
   kept.reserve(errors.size());
   for (size_t i = 0; i < errors.size(); ++i) {
     if (!mask.empty() && mask[i] > 1)
-      throw std::invalid_argument(fmt::format("FLIP pooling: mask value {} at pixel {} is neither 0 nor 1", mask[i], i));
+      throw std::invalid_argument(
+          fmt::format("FLIP pooling: mask value {} at pixel {} is neither 0 nor 1", mask[i], i));
     if (mask.empty() || mask[i]) kept.push_back(errors[i]);
   }
   FlipPooled p;
@@ -469,7 +473,8 @@ FlipResult flipHdr(const ImageRgbaF& reference, const ImageRgbaF& test, const Fl
     for (size_t i = 0; i < lum.size(); ++i) lum[i] = luminance(ref.at(i));
     const float maxLum = *std::max_element(lum.begin(), lum.end());
     if (!(maxLum > 0.0f))
-      throw std::invalid_argument("HDR-FLIP: the reference has no positive luminance; give both the start and the stop exposure");
+      throw std::invalid_argument(
+          "HDR-FLIP: the reference has no positive luminance; give both the start and the stop exposure");
     // The element of rank floor(n/2), zeros included; when that is 0, the
     // median of the positive luminances (the tool v1.6 would return +inf).
     auto mid = lum.begin() + lum.size() / 2;

@@ -111,7 +111,8 @@ void writePngTonemapped(const std::filesystem::path& path, const ImageRgbaF& ima
 
 void writePngRgba8(const std::filesystem::path& path, int width, int height, std::span<const uint8_t> rgba) {
   if (width <= 0 || height <= 0 || rgba.size() != static_cast<size_t>(width) * height * 4)
-    throw std::invalid_argument(fmt::format("{}: {} bytes for a {}x{} RGBA image", path.string(), rgba.size(), width, height));
+    throw std::invalid_argument(
+        fmt::format("{}: {} bytes for a {}x{} RGBA image", path.string(), rgba.size(), width, height));
   if (!stbi_write_png(path.string().c_str(), width, height, 4, rgba.data(), width * 4))
     throw std::runtime_error("cannot write " + path.string());
 }

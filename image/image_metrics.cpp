@@ -28,7 +28,8 @@ ImageMetrics compareImages(const ImageRgbaF& reference, const ImageRgbaF& test, 
   for (size_t i = 0; i < n; ++i) {
     if (!mask.empty()) {
       if (mask[i] > 1)
-        throw std::invalid_argument(fmt::format("image metrics: mask value {} at pixel {} is neither 0 nor 1", mask[i], i));
+        throw std::invalid_argument(
+            fmt::format("image metrics: mask value {} at pixel {} is neither 0 nor 1", mask[i], i));
       if (!mask[i]) continue;
     }
     const float* r = reference.pixels.data() + i * 4;

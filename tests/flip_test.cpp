@@ -10,6 +10,8 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "image/flip.h"
 #include "image/image_metrics.h"
@@ -79,6 +81,123 @@ double colourError(double hyabDistance) {
 // moves by at most ΔEf · max(x |ln x|) = ΔEf / e ≈ 1e-4 (the tool computes
 // in float32 the same way).
 constexpr double kUniformTolerance = 1.5e-4;
+
+// LDR-FLIP, in double, of images whose columns are uniform (every row the
+// same), from the formulas alone. Along y every filter then sees a constant
+// column: the Gaussians (sum 1) leave it unchanged, the derivatives (sum 0)
+// give 0, and the Cz pair h1(x)h1(y) + h2(x)h2(y) reduces to
+// (S1·h1(x) + S2·h2(x)) / (S1² + S2²) with S = Σh. What remains are 1-D
+// convolutions along x, with clamp to edge.
+using Rgb = std::array<double, 3>;
+
+std::vector<double> normalisedGaussian(int radius, double ppd, double b) {
+  std::vector<double> g;
+  double sum = 0.0;
+  for (int k = -radius; k <= radius; ++k) sum += g.emplace_back(std::exp(-kPi * kPi * (k / ppd) * (k / ppd) / b));
+  for (double& v : g) v /= sum;
+  return g;
+}
+
+std::vector<double> convolveRow(const std::vector<double>& row, const std::vector<double>& kernel) {
+  const int r = static_cast<int>(kernel.size() / 2), n = static_cast<int>(row.size());
+  std::vector<double> out(n, 0.0);
+  for (int x = 0; x < n; ++x)
+    for (int k = -r; k <= r; ++k) out[x] += kernel[k + r] * row[std::clamp(x + k, 0, n - 1)];
+  return out;
+}
+
+struct SeenRow {
+  std::vector<Lab> lab;              // Hunt-adjusted CIELAB after the CSF
+  std::vector<double> edge, point;   // feature strengths
+};
+
+SeenRow seeRow(const std::vector<Rgb>& rgb, double ppd) {
+  const double m[3][3] = {{10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0},
+                          {2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0},
+                          {1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0}};
+  const double inv[3][3] = {{3.241003275, -1.537398934, -0.498615861},
+                            {-0.969224334, 1.875930071, 0.041554224},
+                            {0.055639423, -0.204011202, 1.057148933}};
+  const auto apply = [](const double (&a)[3][3], const Rgb& v) {
+    return Rgb{a[0][0] * v[0] + a[0][1] * v[1] + a[0][2] * v[2], a[1][0] * v[0] + a[1][1] * v[1] + a[1][2] * v[2],
+               a[2][0] * v[0] + a[2][1] * v[1] + a[2][2] * v[2]};
+  };
+  const size_t n = rgb.size();
+  std::vector<double> yy(n), cx(n), cz(n), luminance(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Rgb xyz = apply(m, rgb[i]);
+    const double x = xyz[0] / kXn, y = xyz[1], z = xyz[2] / kZn;
+    yy[i] = 116.0 * y - 16.0, cx[i] = 500.0 * (x - y), cz[i] = 200.0 * (y - z);
+    luminance[i] = y;
+  }
+  const int r = static_cast<int>(std::ceil(3.0 * std::sqrt(0.04 / (2.0 * kPi * kPi)) * ppd));
+  const std::vector<double> gy = normalisedGaussian(r, ppd, 0.0047), gcx = normalisedGaussian(r, ppd, 0.0053);
+  // Cz: 34.1·√(π/0.04)·e^(-π²ρ²/0.04) + 13.5·√(π/0.025)·e^(-π²ρ²/0.025), each term separable.
+  std::vector<double> h1, h2, gcz;
+  double s1 = 0.0, s2 = 0.0;
+  for (int k = -r; k <= r; ++k) {
+    const double d2 = (k / ppd) * (k / ppd);
+    s1 += h1.emplace_back(std::sqrt(34.1 * std::sqrt(kPi / 0.04)) * std::exp(-kPi * kPi * d2 / 0.04));
+    s2 += h2.emplace_back(std::sqrt(13.5 * std::sqrt(kPi / 0.025)) * std::exp(-kPi * kPi * d2 / 0.025));
+  }
+  for (size_t k = 0; k < h1.size(); ++k) gcz.push_back((s1 * h1[k] + s2 * h2[k]) / (s1 * s1 + s2 * s2));
+  const std::vector<double> fy = convolveRow(yy, gy), fcx = convolveRow(cx, gcx), fcz = convolveRow(cz, gcz);
+  SeenRow seen;
+  for (size_t i = 0; i < n; ++i) {
+    const double y = (fy[i] + 16.0) / 116.0, x = y + fcx[i] / 500.0, z = y - fcz[i] / 200.0;
+    Rgb back = apply(inv, Rgb{x * kXn, y, z * kZn});
+    for (double& c : back) c = std::clamp(c, 0.0, 1.0);
+    const Rgb xyz = apply(m, back);
+    seen.lab.push_back(huntLab(xyz[0], xyz[1], xyz[2]));
+  }
+  // Features: derivatives of a Gaussian, σ = 0.5·0.082°·ppd pixels, each sign normalised to ±1.
+  const double sigma = 0.5 * 0.082 * ppd;
+  const int rf = static_cast<int>(std::ceil(3.0 * sigma));
+  std::vector<double> d1, d2;
+  for (int k = -rf; k <= rf; ++k) {
+    const double g = std::exp(-k * k / (2.0 * sigma * sigma));
+    d1.push_back(-k * g);
+    d2.push_back((k * k / (sigma * sigma) - 1.0) * g);
+  }
+  for (auto* d : {&d1, &d2}) {
+    double pos = 0.0, neg = 0.0;
+    for (double v : *d) (v > 0.0 ? pos : neg) += v;
+    for (double& v : *d) v /= v > 0.0 ? pos : -neg;
+  }
+  for (double v : convolveRow(luminance, d1)) seen.edge.push_back(std::abs(v));
+  for (double v : convolveRow(luminance, d2)) seen.point.push_back(std::abs(v));
+  return seen;
+}
+
+std::vector<double> flipOfRowsByHand(const std::vector<Rgb>& reference, const std::vector<Rgb>& test, double ppd) {
+  const SeenRow r = seeRow(reference, ppd), t = seeRow(test, ppd);
+  std::vector<double> error;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    const double colour = colourError(hyab(r.lab[i], t.lab[i]));
+    const double feature =
+        std::sqrt(std::max(std::abs(r.edge[i] - t.edge[i]), std::abs(r.point[i] - t.point[i])) / std::sqrt(2.0));
+    error.push_back(std::pow(colour, 1.0 - feature));
+  }
+  return error;
+}
+
+ImageRgbaF fromRow(const std::vector<Rgb>& row, int height) {
+  ImageRgbaF img(static_cast<int>(row.size()), height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      float* p = img.at(x, y);
+      p[0] = static_cast<float>(row[x][0]), p[1] = static_cast<float>(row[x][1]), p[2] = static_cast<float>(row[x][2]);
+      p[3] = 1.0f;
+    }
+  return img;
+}
+
+// A step from colour a to colour b at column `edge`.
+std::vector<Rgb> stepRow(int width, int edge, Rgb a, Rgb b) {
+  std::vector<Rgb> row(width, a);
+  std::fill(row.begin() + edge, row.end(), b);
+  return row;
+}
 
 // ---- Filters and constants ----------------------------------------------------
 
@@ -188,28 +307,60 @@ TEST(FlipLdr, BlackVersusWhiteByHand) {
   EXPECT_NEAR(r.pooled.meanDouble, expected, kUniformTolerance);
 }
 
-// Left half grey a, right half grey b; the test has the edge 3 pixels to the
-// right. Outside the reach of both filters (CSF radius 10, feature radius 9)
-// around the changed columns the two images look alike: error exactly 0.
-TEST(FlipLdr, ShiftedStepEdge) {
-  const int w = 96, h = 24, edge = 48, shift = 3;
-  ImageRgbaF ref = uniform(w, h, 0.2f, 0.2f, 0.2f), test = ref;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (x >= edge) std::fill(ref.at(x, y), ref.at(x, y) + 3, 0.6f);
-      if (x >= edge + shift) std::fill(test.at(x, y), test.at(x, y) + 3, 0.6f);
-    }
-  const FlipResult r = flipLdr(ref, test);
-  const int reach = std::max(flipCsfKernels(FlipOptions{}.ppd).radius, flipFeatureKernels(FlipOptions{}.ppd).radius);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const float e = r.errorMap[size_t(y) * w + x];
-      if (x < edge - reach || x >= edge + shift + reach) {
-        ASSERT_EQ(e, 0.0f) << x << "," << y;
-      } else if (x >= edge && x < edge + shift) {
-        ASSERT_GT(e, 0.3f) << x << "," << y;
+// Uniform greys g: XYZ = g · white, so L = 116 f(g) - 16, a = b = 0 and
+// HyAB = |ΔL|. The pairs put e = HyAB^0.7 on both sides of the knee 0.4 cmax
+// = 16.51 (HyAB 55.0), and just above it.
+TEST(FlipLdr, UniformGreysByHand) {
+  const auto lightness = [](double g) { return 116.0 * labF(g) - 16.0; };
+  for (const auto& [a, b] : {std::pair{0.2, 0.25}, std::pair{0.0, 0.1}, std::pair{0.0, 0.28}, std::pair{0.05, 0.6}}) {
+    SCOPED_TRACE(testing::Message() << a << " vs " << b);
+    const double expected = colourError(std::abs(lightness(a) - lightness(b)));
+    const float fa = static_cast<float>(a), fb = static_cast<float>(b);
+    const FlipResult r = flipLdr(uniform(24, 24, fa, fa, fa), uniform(24, 24, fb, fb, fb));
+    for (float e : r.errorMap) ASSERT_NEAR(e, expected, kUniformTolerance);
+  }
+  // Black | 0.28: HyAB = 60.2, e = 17.6, within 10 % above the knee.
+  const double e = std::pow(lightness(0.28), 0.7), knee = 0.4 * colorMaxByHand();
+  EXPECT_GT(e, knee);
+  EXPECT_LT(e, 1.1 * knee);
+}
+
+// Step edges, the test's edge 3 pixels to the right of the reference's, the
+// whole map against the 1-D derivation above. A grey step stays in the RGB
+// cube; a red-blue step leaves it after filtering (the three channels are
+// blurred by different amounts) and exercises the clamp, the chroma and Cz.
+// Outside the reach of both filters (CSF radius 10, feature radius 9) around
+// the changed columns the images look alike: error exactly 0.
+// Tolerance: float32 leaves L off by ~1e-5; where ΔL is tiny (the fringe of
+// the filters' reach) HyAB^0.7 magnifies that, up to 2e-4 in ΔE (measured:
+// 1.7e-4 on the grey step, 2e-5 where ΔE > 0.05).
+constexpr double kStepTolerance = 3e-4;
+
+TEST(FlipLdr, ShiftedStepEdgesByHand) {
+  const int w = 96, h = 12, edge = 48, shift = 3;
+  const double ppd = FlipOptions{}.ppd;
+  const int reach = std::max(flipCsfKernels(ppd).radius, flipFeatureKernels(ppd).radius);
+  struct Case {
+    const char* name;
+    Rgb a, b;
+  };
+  for (const Case& c : {Case{"grey 0.2 | 0.6", {0.2, 0.2, 0.2}, {0.6, 0.6, 0.6}},
+                        Case{"red | blue", {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}},
+                        Case{"dark green | light grey", {0.05, 0.3, 0.1}, {0.8, 0.8, 0.8}}}) {
+    SCOPED_TRACE(c.name);
+    const std::vector<Rgb> refRow = stepRow(w, edge, c.a, c.b), testRow = stepRow(w, edge + shift, c.a, c.b);
+    const std::vector<double> expected = flipOfRowsByHand(refRow, testRow, ppd);
+    const FlipResult r = flipLdr(fromRow(refRow, h), fromRow(testRow, h));
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const float e = r.errorMap[size_t(y) * w + x];
+        if (x < edge - reach || x >= edge + shift + reach) {
+          ASSERT_EQ(e, 0.0f) << x << "," << y;
+        }
+        ASSERT_NEAR(e, expected[x], kStepTolerance) << x << "," << y;
       }
     }
+    EXPECT_GT(expected[edge + 1], 0.3);
   }
 }
 
@@ -304,6 +455,22 @@ TEST(FlipPooling, ByHand) {
   EXPECT_NEAR(p.histogramWeighted25, (20.0 + 0.15 / 0.205) * 0.01, 1e-6);
 }
 
+// "Exceeds", not "reaches": 0.1, 0.4, 0.5 (float sums 0.1, 0.5, 1.0 exactly
+// on the way): the running sum reaches half the total at 0.4 but exceeds it
+// only at 0.5.
+TEST(FlipPooling, WeightedPercentileNeedsToExceed) {
+  EXPECT_EQ(poolFlipErrors(std::vector<float>{0.5f, 0.1f, 0.4f}).weightedMedian, 0.5f);
+}
+
+// The mean is the tool's float32 running sum: after 1.0, each 1e-8 is lost.
+TEST(FlipPooling, MeanIsAFloatRunningSum) {
+  std::vector<float> errors(1001, 1e-8f);
+  errors[0] = 1.0f;
+  const FlipPooled p = poolFlipErrors(errors);
+  EXPECT_EQ(p.mean, 1.0f / 1001.0f);
+  EXPECT_NEAR(p.meanDouble, (1.0 + 1000 * double(1e-8f)) / 1001.0, 1e-15);
+}
+
 TEST(FlipPooling, EdgeValuesAndMasks) {
   // 1.0 goes into the last bucket.
   EXPECT_EQ(poolFlipErrors(std::vector<float>{1.0f}).histogram[99], 1u);
@@ -373,7 +540,8 @@ TEST(FlipHdr, ExposureRangeOfAUniformReference) {
     FlipToneMapper mapper;
     double x;
   };
-  for (const Case& c : {Case{FlipToneMapper::Aces, acesInputFor(0.85)}, Case{FlipToneMapper::Hable, hableInputFor(0.85)},
+  for (const Case& c : {Case{FlipToneMapper::Aces, acesInputFor(0.85)},
+                        Case{FlipToneMapper::Hable, hableInputFor(0.85)},
                         Case{FlipToneMapper::Reinhard, 0.85 / 0.15}}) {
     FlipOptions o;
     o.toneMapper = c.mapper;
@@ -385,6 +553,9 @@ TEST(FlipHdr, ExposureRangeOfAUniformReference) {
   }
   EXPECT_NEAR(acesInputFor(0.85), 2.118873, 1e-6);
   EXPECT_NEAR(hableInputFor(0.85), 3.127750, 2e-5);  // the folded coefficients are rounded to 6 digits
+  // Luminance is 0.2126 R + 0.7152 G + 0.0722 B: pure green has Y = 0.7152.
+  const FlipResult green = flipHdr(uniform(24, 24, 0, 1, 0), uniform(24, 24, 0, 1, 0));
+  EXPECT_NEAR(green.startExposure, std::log2(acesInputFor(0.85) / 0.7152), 2e-5);
 }
 
 // 16 grey pixels (Y = value) 1 ... 16: max 16, median = the element of rank
@@ -394,7 +565,9 @@ TEST(FlipHdr, ExposureRangeOfAUniformReference) {
 // = 6.64 → 7 exposures.
 TEST(FlipHdr, ExposureRangeFromMaxAndMedian) {
   ImageRgbaF ref(4, 4);
-  const auto setGrey = [&](int i, float v) { std::fill(ref.pixels.begin() + i * 4, ref.pixels.begin() + i * 4 + 3, v); };
+  const auto setGrey = [&](int i, float v) {
+    std::fill(ref.pixels.begin() + i * 4, ref.pixels.begin() + i * 4 + 3, v);
+  };
   for (int i = 0; i < 16; ++i) setGrey(i, float(16 - i));
   const double x = acesInputFor(0.85);
   FlipResult r = flipHdr(ref, ref);
@@ -418,6 +591,10 @@ TEST(FlipHdr, BlackBackgroundUsesThePositiveMedian) {
   // positives 1..5: rank floor(5/2) = 2 → 3.
   EXPECT_NEAR(r.stopExposure, std::log2(acesInputFor(0.85) / 3.0), 2e-5);
   EXPECT_NEAR(r.startExposure, std::log2(acesInputFor(0.85) / 5.0), 2e-5);
+  // Fewer zeros than half: they count. 3 zeros and 1..13: rank 8 of all is 6
+  // (of the positives alone it would be 7).
+  for (int i = 0; i < 13; ++i) std::fill(ref.pixels.begin() + i * 4, ref.pixels.begin() + i * 4 + 3, float(i + 1));
+  EXPECT_NEAR(flipHdr(ref, ref).stopExposure, std::log2(acesInputFor(0.85) / 6.0), 2e-5);
 }
 
 TEST(FlipHdr, IdenticalImagesGiveZero) {
@@ -429,23 +606,52 @@ TEST(FlipHdr, IdenticalImagesGiveZero) {
 }
 
 // Grey 4 against grey 8: LDR-FLIP clamps both to white and sees nothing;
-// HDR-FLIP exposes them down and sees the difference. With given exposures,
-// the map is the larger of the LDR-FLIP maps of the tone-mapped images, here
-// uniform: 4 · 2^-2 and 8 · 2^-2 through ACES, i.e. 0.6 and 1.2 through
-// Narkowicz's curve → 0.673 and 0.840, both grey.
+// HDR-FLIP exposes them down and sees the difference. With given exposures
+// the map is the per-pixel maximum of the LDR-FLIP maps of the tone-mapped
+// images, here uniform greys: at exposure c the values 4·2^c and 8·2^c go
+// through ACES, i.e. 0.6·4·2^c and 0.6·8·2^c through Narkowicz's curve.
 TEST(FlipHdr, SeesDifferencesAboveOne) {
   const ImageRgbaF ref = uniform(24, 24, 4, 4, 4), test = uniform(24, 24, 8, 8, 8);
   EXPECT_EQ(flipLdr(ref, test).pooled.max, 0.0f);
-  FlipOptions o;
-  o.startExposure = -2.0f, o.stopExposure = -2.0f;
-  const FlipResult r = flipHdr(ref, test, o);
-  EXPECT_EQ(r.exposureCount, 2);
   const auto aces = [](double x) { return x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14); };
   // Grey g: XYZ = g·white, L = 116 f(g) - 16, a = b = 0: HyAB = |ΔL|.
   const auto lightness = [](double g) { return 116.0 * labF(g) - 16.0; };
-  const double expected = colourError(std::abs(lightness(aces(0.6 * 1.0)) - lightness(aces(0.6 * 2.0))));
+  const auto atExposure = [&](double c) {
+    return colourError(std::abs(lightness(aces(0.6 * 4.0 * std::exp2(c))) - lightness(aces(0.6 * 8.0 * std::exp2(c)))));
+  };
+  // Exposures -2 (0.673 vs 0.840 after ACES), then -6 and -2 (the darker one
+  // separates the greys more: it is the maximum).
+  for (const auto& [start, stop] : {std::pair{-2.0f, -2.0f}, std::pair{-6.0f, -2.0f}}) {
+    FlipOptions o;
+    o.startExposure = start, o.stopExposure = stop, o.exposureCount = 2;
+    const FlipResult r = flipHdr(ref, test, o);
+    const double expected = std::max(atExposure(start), atExposure(stop));
+    for (float e : r.errorMap) ASSERT_NEAR(e, expected, kUniformTolerance) << start << " to " << stop;
+  }
+  EXPECT_GT(atExposure(-6.0), atExposure(-2.0) + 0.05);
+  EXPECT_GT(atExposure(-2.0), 0.2);
+  // ACES exceeds 1 above x = 12.07 (0.6x through Narkowicz): 30 and 60 map
+  // to 1.020 and 1.026, clamped to 1 before LDR-FLIP, so a step from either
+  // to grey 0.5 looks the same.
+  FlipOptions o;
+  o.startExposure = 0.0f, o.stopExposure = 0.0f;
+  const auto step = [](double bright) {
+    return fromRow(stepRow(48, 24, {bright, bright, bright}, {0.5, 0.5, 0.5}), 8);
+  };
+  EXPECT_EQ(flipHdr(step(30.0), step(60.0), o).pooled.max, 0.0f);
+}
+
+// Reinhard divides the colour by 1 + its luminance (not each channel by
+// 1 + itself): pure red 1 becomes 1/1.2126 = 0.8247 red, against black.
+TEST(FlipHdr, ReinhardMapsByLuminance) {
+  FlipOptions o;
+  o.toneMapper = FlipToneMapper::Reinhard;
+  o.startExposure = 0.0f, o.stopExposure = 0.0f;
+  const FlipResult r = flipHdr(uniform(24, 24, 1, 0, 0), uniform(24, 24, 0, 0, 0), o);
+  const double red = 1.0 / (1.0 + 0.2126);
+  const Lab mapped = huntLab(red * 10135552.0 / 24577794.0, red * 2613072.0 / 12288897.0, red * 1425312.0 / 73733382.0);
+  const double expected = colourError(hyab(mapped, huntLab(0, 0, 0)));
   for (float e : r.errorMap) ASSERT_NEAR(e, expected, kUniformTolerance);
-  EXPECT_GT(expected, 0.2);
 }
 
 TEST(FlipHdr, RejectsBadExposures) {

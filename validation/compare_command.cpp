@@ -27,7 +27,8 @@ struct LoadedImage {
 
 // By content, not by name: PNG and OpenEXR start with fixed magic bytes.
 LoadedImage load(const std::filesystem::path& path) {
-  if (std::filesystem::is_directory(path)) throw std::invalid_argument(path.string() + ": is a directory, not an image");
+  if (std::filesystem::is_directory(path))
+    throw std::invalid_argument(path.string() + ": is a directory, not an image");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw std::invalid_argument(path.string() + ": cannot open");
   std::array<unsigned char, 4> magic{};
