@@ -495,9 +495,12 @@ FlipResult flipHdr(const ImageRgbaF& reference, const ImageRgbaF& test, const Fl
   if (!std::isfinite(start) || !std::isfinite(stop) || start > stop)
     throw std::invalid_argument(
         fmt::format("HDR-FLIP: exposures {} to {}: need finite values, start <= stop", start, stop));
-  const int count = options.exposureCount.value_or(std::max(2, static_cast<int>(std::ceil(stop - start))));
-  if (count < 2)
-    throw std::invalid_argument(fmt::format("HDR-FLIP: {} exposures; at least 2 are needed", count));
+  // One exposure per stop; float32 spans fewer than 300 stops.
+  const double stops = std::ceil(static_cast<double>(stop) - start);
+  const int count = options.exposureCount.value_or(static_cast<int>(std::clamp(stops, 2.0, 301.0)));
+  if (count < 2 || count > 300)
+    throw std::invalid_argument(fmt::format("HDR-FLIP: {:g} exposures from {} to {}; 2 to 300 are possible",
+                                            options.exposureCount ? count : stops, start, stop));
 
   FlipResult r;
   r.width = reference.width, r.height = reference.height;

@@ -38,7 +38,7 @@ struct FlipOptions {
   // its median does); the count defaults to max(2, ceil(stop - start)).
   FlipToneMapper toneMapper = FlipToneMapper::Aces;
   std::optional<float> startExposure, stopExposure;  // stops, start <= stop
-  std::optional<int> exposureCount;                  // >= 2
+  std::optional<int> exposureCount;                  // 2 to 300
   // Pixels pooled into the statistics: empty = all; otherwise one value per
   // pixel (row-major, row 0 at the top), 1 = pooled, 0 = left out. The error
   // map itself is always computed on the whole image (the filters see every
