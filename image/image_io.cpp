@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fmt/format.h>
 #include <stdexcept>
 
 #define STB_IMAGE_WRITE_STATIC  // report.cpp has its own copy
@@ -105,6 +106,14 @@ std::vector<uint8_t> tonemapToRgba8(const ImageRgbaF& image, const DisplayMappin
 void writePngTonemapped(const std::filesystem::path& path, const ImageRgbaF& image, const DisplayMapping& mapping) {
   const std::vector<uint8_t> bytes = tonemapToRgba8(image, mapping);
   if (!stbi_write_png(path.string().c_str(), image.width, image.height, 4, bytes.data(), image.width * 4))
+    throw std::runtime_error("cannot write " + path.string());
+}
+
+void writePngRgba8(const std::filesystem::path& path, int width, int height, std::span<const uint8_t> rgba) {
+  if (width <= 0 || height <= 0 || rgba.size() != static_cast<size_t>(width) * height * 4)
+    throw std::invalid_argument(
+        fmt::format("{}: {} bytes for a {}x{} RGBA image", path.string(), rgba.size(), width, height));
+  if (!stbi_write_png(path.string().c_str(), width, height, 4, rgba.data(), width * 4))
     throw std::runtime_error("cannot write " + path.string());
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <vector>
 
 #include "image/image.h"
@@ -29,6 +30,8 @@ struct DisplayMapping {
 // The same mapping into RGBA8 bytes (alpha 255), row 0 at the top.
 std::vector<uint8_t> tonemapToRgba8(const ImageRgbaF& image, const DisplayMapping& mapping = {});
 void writePngTonemapped(const std::filesystem::path& path, const ImageRgbaF& image, const DisplayMapping& mapping = {});
+// 8-bit RGBA bytes as given (4 per pixel, row 0 at the top): false-colour maps.
+void writePngRgba8(const std::filesystem::path& path, int width, int height, std::span<const uint8_t> rgba);
 // 8-bit RGBA → display-referred values in [0, 1] (no sRGB decoding; FLIP decodes itself).
 ImageRgbaF readPng(const std::filesystem::path& path);
 

@@ -270,6 +270,29 @@ run_case "knit frames: topology differs" 2 "frame_topology.obj" -- knit --mesh "
 run_case "knit frames: flipped face" 2 "frame_flipped.obj" "face 0" -- knit --mesh "$TMP/rest.obj" --mesh "$TMP/frame_flipped.obj" --no-image --out "$TMP/k.bcc"
 rm -f "$TMP/k.bcc"
 
+# fibertwin compare (docs/flip.md): images that cannot be compared, and bad option values.
+IMG="$(dirname "$0")/../docs/images"
+run_case "compare <missing>" 2 "$missing" "cannot open" -- compare "$missing" "$IMG/knit-rest.png"
+run_case "compare <not an image>" 2 "nonmanifold_edge.obj" "neither a PNG nor an OpenEXR" -- \
+  compare "$KC/nonmanifold_edge.obj" "$IMG/knit-rest.png"
+run_case "compare: sizes differ" 2 "knit-rest.png is 640x480" "default-silk1.png is 960x720" -- \
+  compare "$IMG/knit-rest.png" "$IMG/default-silk1.png" --error-map "$TMP/map.png"
+expect_absent "compare: sizes differ (no error map)" "$TMP/map.png"
+run_case "compare --ppd 0" 2 "pixels per degree 0" -- compare "$IMG/knit-rest.png" "$IMG/knit-rest.png" --ppd 0
+run_case "compare --tonemapper nosuch" 2 "--tonemapper" "nosuch" -- \
+  compare "$IMG/knit-rest.png" "$IMG/knit-rest.png" --tonemapper nosuch
+run_case "compare --hdr --ldr" 2 "--ldr" -- compare "$IMG/knit-rest.png" "$IMG/knit-rest.png" --hdr --ldr
+# A real pair: the numbers, the error map and the JSON.
+run_case "compare knit pair" 0 -- compare "$IMG/knit-interpolated.png" "$IMG/knit-optimized.png" \
+  --error-map "$TMP/map.png" --json "$TMP/compare.json"
+if grep -Eq '^Mean: 0\.[0-9]{6}$' "$TMP/case.out" && [ -s "$TMP/map.png" ] && [ -s "$TMP/compare.json" ]; then
+  passed=$((passed + 1))
+else
+  echo "FAIL  compare knit pair: no 'Mean:' line, error map or JSON"
+  failed=$((failed + 1))
+  failures+="  compare knit pair (outputs)\n"
+fi
+
 echo "$passed passed, $failed failed ($xfailed known gaps)"
 if [ "$failed" -ne 0 ]; then
   printf "failed:\n%b" "$failures"

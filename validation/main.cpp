@@ -18,6 +18,7 @@
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_radius.h"
 #include "validation/build_info.h"
+#include "validation/compare_command.h"
 #include "validation/draw_check.h"
 #include "validation/faults.h"
 #include "validation/harness.h"
@@ -243,6 +244,9 @@ int main(int argc, char** argv) {
   info->add_option("--backend", backend, "GL backend");
   app.add_subcommand("faults", "list the faults --inject can plant");
 
+  ft::CompareCommandOptions compareOptions;
+  CLI::App* compare = ft::addCompareCommand(app, compareOptions);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -251,6 +255,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
+    if (compare->parsed()) return ft::runCompareCommand(compareOptions, std::cout);
     if (validate->parsed()) {
       if (!modelPath.empty()) vo.model = modelPath;
       for (int i = 0; i < argc; ++i) vo.commandLine += (i ? " " : "") + shellQuote(argv[i]);
