@@ -12,11 +12,13 @@
 // φ = π, the specular cone is θ_o = −θ_i.
 //
 // Numerics: the R lobe of silk and cotton is 1° wide, so every function takes
-// angles, not directions (an asin error of 1e-6 rad is 2e-4 of the lobe at
-// β = 1°, see ftFiberAngles), the longitudinal normaliser Z(θ_i) is exact
-// (closed form where the lobe is inside (−π/2, π/2), 20-point Gauss–Legendre
-// over ±6β otherwise) and the von Mises normaliser uses the exponentially
-// scaled Bessel function I0e (GLSL has no I0; I0(κ) overflows float at κ ≈ 90).
+// angles, not directions (an angle error of 1e-6 rad is 2e-4 of the lobe at
+// β = 1°), and directions become angles through an arctangent written out
+// here (ftAtan2: GLSL's asin is good to only 4e-4 rad on Mesa); the
+// longitudinal normaliser Z(θ_i) is exact (closed form where the lobe is
+// inside (−π/2, π/2), 20-point Gauss–Legendre over ±6β otherwise) and the von
+// Mises normaliser uses the exponentially scaled Bessel function I0e (GLSL has
+// no I0; I0(κ) overflows float at κ ≈ 90).
 #ifndef FT_BCSDF_H
 #define FT_BCSDF_H
 #include "prelude.h"
@@ -68,8 +70,8 @@ const float kFtGaussLegendre20W[10] = {0.1527533871307260f, 0.1491729864726038f,
 // taken as zero: e^(−18) ≈ 1.5e-8 of its peak.
 const float kFtLobeWindow = 6.0f;
 
-// I0(x)·e^(−x), x ≥ 0 (Abramowitz & Stegun 9.8.1 and 9.8.2; relative error
-// below 2e-7 on the scaled value).
+// I0(x)·e^(−x), x ≥ 0 (Abramowitz & Stegun 9.8.1 and 9.8.2: relative error
+// below 1.6e-7 and 4.8e-7; in float 2.6e-7 and 5.5e-7, tests/bcsdf_test.cpp).
 FT_FUNC float ftBesselI0e(float x) {
   x = abs(x);
   if (x < 3.75f) {
@@ -166,19 +168,42 @@ FT_FUNC float ftSimpleSpecular(float ks, float beta, FiberAngles a) {
   return ks * cos(0.5f * a.phi) * exp(-0.5f * r * r);
 }
 
-// Angles of (ω_i, ω_o) about the unit tangent t. asin of the clamped
-// projection; φ from the perpendicular parts (φ = 0 when either is parallel
-// to t, where φ is undefined and f does not depend on it).
+// atan2(y, x) in [−π, π] from arithmetic and one division only (Cephes atanf:
+// reduction to |a| ≤ tan(π/8), degree-9 odd polynomial; error ≤ 3e-7 rad).
+// GLSL leaves the precision of asin, acos and atan open, and Mesa's are
+// polynomials good to 3.9e-4, 1.6e-4 and 3.3e-6 rad: 2% of the 1° lobe for
+// asin. Written out here, the two sides agree to rounding. atan2(0, 0) = 0.
+FT_FUNC float ftAtan2(float y, float x) {
+  float ax = abs(x), ay = abs(y);
+  float hi = max(ax, ay), lo = min(ax, ay);
+  float a = hi > 0.0f ? lo / hi : 0.0f;  // [0, 1]
+  float base = 0.0f;
+  if (a > 0.41421356f) {  // atan(a) = π/4 + atan((a − 1)/(a + 1))
+    a = (a - 1.0f) / (a + 1.0f);
+    base = 0.25f * FT_PI;
+  }
+  float z = a * a;
+  float r = base + ((((0.0805374449538f * z - 0.138776856032f) * z + 0.199777106478f) * z - 0.333329491539f) * z * a + a);
+  if (ay > ax) r = 0.5f * FT_PI - r;
+  if (x < 0.0f) r = FT_PI - r;
+  return y < 0.0f ? -r : r;
+}
+
+// Angles of (ω_i, ω_o) about the unit tangent t (ω_i, ω_o of any length):
+// θ = atan2(ω·t, |ω⊥|) and φ = atan2(|ω_i⊥ × ω_o⊥|, ω_i⊥·ω_o⊥), well
+// conditioned everywhere, unlike asin(ω·t) near the poles and acos near
+// φ = 0, π. φ = 0 when either direction is parallel to t, where φ is
+// undefined (and the cos θ of the measure vanishes).
 FT_FUNC FiberAngles ftFiberAngles(vec3 t, vec3 wi, vec3 wo) {
   FiberAngles a;
-  float si = clamp(dot(wi, t), -1.0f, 1.0f);
-  float so = clamp(dot(wo, t), -1.0f, 1.0f);
-  a.thetaI = asin(si);
-  a.thetaO = asin(so);
+  float si = dot(wi, t);
+  float so = dot(wo, t);
   vec3 pi = wi - si * t;
   vec3 po = wo - so * t;
-  float d = sqrt(dot(pi, pi) * dot(po, po));
-  a.phi = d > 1e-12f ? acos(clamp(dot(pi, po) / d, -1.0f, 1.0f)) : 0.0f;
+  float pi2 = dot(pi, pi), po2 = dot(po, po);
+  a.thetaI = ftAtan2(si, sqrt(pi2));
+  a.thetaO = ftAtan2(so, sqrt(po2));
+  a.phi = pi2 * po2 > 1e-24f ? ftAtan2(length(cross(pi, po)), dot(pi, po)) : 0.0f;
   return a;
 }
 

@@ -36,6 +36,9 @@
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/fiber_shading.h)
 #define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
+// Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
+#define FT_BCSDF_LOBE_R 1u
+#define FT_BCSDF_LOBE_TT 2u
 
 // Work-group sizes (local_size_x).
 #define FT_WG_FRAMES 64

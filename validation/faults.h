@@ -5,6 +5,7 @@
 #pragma once
 #include <string_view>
 
+#include "common/bcsdf.h"
 #include "common/yarn_frame.h"
 
 namespace ft {
@@ -31,6 +32,7 @@ inline constexpr Fault kFaults[] = {
 // harness turns it on for its run and off again when the run ends.
 inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
+  if (define == "FT_FAULT_BCSDF_NORM_THETA_I") ftFaultBcsdfNormThetaI = on;
 }
 
 inline const Fault* findFault(std::string_view name) {

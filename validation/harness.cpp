@@ -63,6 +63,11 @@ KnitGpu& ValidationContext::knitGpu() {
   return *knitGpu_;
 }
 
+BcsdfGpu& ValidationContext::bcsdfGpu() {
+  if (!bcsdfGpu_) bcsdfGpu_ = std::make_unique<BcsdfGpu>(context_->info(), defines_);
+  return *bcsdfGpu_;
+}
+
 const FiberSetup& ValidationContext::fiberSetup(const YarnPreset& preset) {
   auto& slot = cache_["preset/" + preset.name];
   if (!slot)
@@ -114,6 +119,7 @@ RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
   addFiberCases(ctx, cases);  // one line per algorithm
   addCloseupCases(ctx, cases);
   addKnitCases(ctx, cases);
+  addBcsdfCases(ctx, cases);
   addShadingCases(ctx, cases);
 
   RunSummary summary;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/bcsdf_gpu.h"
 #include "gpu/fiber_gpu.h"
 #include "gpu/knit_gpu.h"
 #include "gpu/gl_context.h"
@@ -59,6 +60,7 @@ class ValidationContext {
   const std::vector<std::string>& defines() const { return defines_; }
   // Built on first use, with the same injected fault.
   KnitGpu& knitGpu();
+  BcsdfGpu& bcsdfGpu();
   const YarnModel& model() const { return model_; }
   const YarnBuffers& buffers() const { return buffers_; }
   std::string modelLabel() const;
@@ -83,6 +85,7 @@ class ValidationContext {
   std::vector<std::string> defines_;
   std::unique_ptr<FiberGpu> fiberGpu_;
   std::unique_ptr<KnitGpu> knitGpu_;
+  std::unique_ptr<BcsdfGpu> bcsdfGpu_;
   YarnModel model_;
   YarnBuffers buffers_;
   double yarnRadius_ = 0.0;
@@ -94,6 +97,7 @@ class ValidationContext {
 void addFiberCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addCloseupCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addKnitCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+void addBcsdfCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addShadingCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 
 struct RunSummary {

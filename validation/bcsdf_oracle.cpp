@@ -1,0 +1,98 @@
+// bcsdf_oracle.cpp — see bcsdf_oracle.h. Includes nothing from common/.
+#include "validation/bcsdf_oracle.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ft::oracle {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+}  // namespace
+
+double Fabric::betaR() const { return betaRDegrees * kDeg; }
+double Fabric::betaTT() const { return betaTTDegrees * kDeg; }
+double Fabric::kappa() const {
+  const double gamma = gammaTTDegrees * kDeg;
+  return 1.0 / (gamma * gamma);
+}
+
+glm::dvec3 fresnel(const Fabric& f, double thetaI) {
+  const double m = 1.0 - std::abs(std::cos(thetaI));
+  const double m5 = m * m * m * m * m;
+  return {f.colorR[0] + (1.0 - f.colorR[0]) * m5, f.colorR[1] + (1.0 - f.colorR[1]) * m5,
+          f.colorR[2] + (1.0 - f.colorR[2]) * m5};
+}
+
+glm::dvec3 albedo(const Fabric& f, double thetaI) {
+  const glm::dvec3 F = fresnel(f, thetaI);
+  return F + (glm::dvec3(1.0) - F) * glm::dvec3(f.colorTT[0], f.colorTT[1], f.colorTT[2]);
+}
+
+double vonMisesRelative(double kappa, double phi) { return std::exp(-kappa * (1.0 + std::cos(phi))); }
+
+double gaussianRelative(double beta, double thetaI, double thetaO) {
+  const double r = (thetaI + thetaO) / beta;
+  return std::exp(-0.5 * r * r);
+}
+
+double simpleSpecular(double ks, double beta, double thetaI, double thetaO, double phi) {
+  const double h = 0.5 * (thetaI + thetaO) / beta;
+  return ks * std::cos(0.5 * phi) * std::exp(-0.5 * h * h);
+}
+
+glm::dvec3 lerpTable(std::span<const glm::vec3> table, double thetaO) {
+  const int n = int(table.size());
+  const double u = std::clamp((thetaO + 0.5 * kPi) / kPi * n - 0.5, 0.0, double(n - 1));
+  const int k0 = std::min(int(std::floor(u)), n - 2);
+  const double w = u - k0;
+  return glm::dvec3(table[size_t(k0)]) * (1.0 - w) + glm::dvec3(table[size_t(k0 + 1)]) * w;
+}
+
+Rule gaussLegendre(int n) {
+  Rule r;
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 0.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      dp = n * (x * p1 - p0) / (x * x - 1.0);
+      const double dx = p1 / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    r.x.push_back(x);
+    r.w.push_back(2.0 / ((1.0 - x * x) * dp * dp));
+  }
+  return r;
+}
+
+Nodes panelNodes(double a, double b, std::vector<double> cuts, double maxPanel, int n) {
+  const Rule rule = gaussLegendre(n);
+  cuts.push_back(a);
+  cuts.push_back(b);
+  std::erase_if(cuts, [&](double x) { return !(x >= a && x <= b); });
+  std::sort(cuts.begin(), cuts.end());
+  Nodes out;
+  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const double len = cuts[i + 1] - cuts[i];
+    if (len <= 0.0) continue;
+    const int panels = std::max(1, int(std::ceil(len / maxPanel)));
+    const double h = len / panels;
+    for (int p = 0; p < panels; ++p) {
+      const double c = cuts[i] + (p + 0.5) * h;
+      for (size_t k = 0; k < rule.x.size(); ++k) {
+        out.x.push_back(c + 0.5 * h * rule.x[k]);
+        out.w.push_back(0.5 * h * rule.w[k]);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace ft::oracle
