@@ -30,7 +30,7 @@
 #include "scene/input_error.h"
 #include "scene/lighting.h"
 #include "scene/yarn_radius.h"
-#include "validation/shading_tables.h"
+#include "gpu/bcsdf_gpu.h"
 
 #ifndef FT_SOURCE_DIR
 #define FT_SOURCE_DIR "."
@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
     const ft::GlInfo& gi = setup.gl->info();
     setup.gpu = std::make_unique<ft::FiberGpu>(gi);
     setup.gpu->setModel(setup.buffers, setup.fibers.table);
-    setup.gpu->setShading(shading, ft::bakeAmbientTableGpu(gi, {}, shading.fabric));
+    setup.gpu->setShading(shading, ft::BcsdfGpu(gi).bakeAmbientTable(shading.fabric));
     setup.timer = std::make_unique<ft::GpuTimer>(gi);
 
     benchmark::AddCustomContext("gl_renderer", gi.renderer);

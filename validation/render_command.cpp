@@ -20,7 +20,7 @@
 #include "validation/draw_check.h"
 #include "validation/faults.h"
 #include "validation/report.h"
-#include "validation/shading_tables.h"
+#include "gpu/bcsdf_gpu.h"
 
 namespace ft {
 
@@ -106,7 +106,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                        v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * secondsSince(t0), g.renderer);
     return 0;
   }
-  const std::vector<glm::vec3> table = bakeAmbientTableGpu(g, defines, v.shading.fabric);
+  const std::vector<glm::vec3> table = BcsdfGpu(g, defines).bakeAmbientTable(v.shading.fabric);
   gpu.setShading(v.shading, table);
   const ImageRgbaF img = o.path == "compute" ? gpu.renderComputeShaded(w, h) : gpu.renderTessellationShaded(w, h);
   const double seconds = secondsSince(t0);

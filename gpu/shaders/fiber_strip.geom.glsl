@@ -19,6 +19,13 @@ layout(location = 1) out float stripAcross;   // -1 .. 1 across the strip
 layout(location = 2) flat out uint stripType;
 layout(location = 3) out vec3 stripWorld;      // world position on the strip's plane
 layout(location = 4) out float stripHalfWidth; // world units
+// The line itself, for the fragment stage's ray–tube intersection: end
+// points, their unit tangents and half-widths (flat: one line per strip quad).
+layout(location = 5) flat out vec3 lineP0;
+layout(location = 6) flat out vec3 lineP1;
+layout(location = 7) flat out vec3 lineT0;
+layout(location = 8) flat out vec3 lineT1;
+layout(location = 9) flat out vec2 lineHalfWidth;
 
 void main() {
   // A hair's free end: the next period restarts at the ply, so a line
@@ -52,6 +59,7 @@ void main() {
   // of overlap closes the hairline crack without a visible cap.
   if (fiberStripEnd[0] > 0.5) p[0] -= t[0] * (0.25 * length(side[0]));
   if (fiberStripEnd[1] > 0.5) p[1] += t[1] * (0.25 * length(side[1]));
+  vec3 ends[2] = vec3[2](fiberPosition[0].xyz, fiberPosition[1].xyz);  // before the overlap
   vec3 corners[4] = vec3[4](p[0] - side[0], p[0] + side[0], p[1] - side[1], p[1] + side[1]);
   for (int i = 0; i < 4; ++i) {
     stripTangent = t[i / 2];
@@ -59,6 +67,11 @@ void main() {
     stripType = i < 2 ? type0 : type1;
     stripWorld = corners[i];
     stripHalfWidth = length(side[i / 2]);
+    lineP0 = ends[0];
+    lineP1 = ends[1];
+    lineT0 = t[0];
+    lineT1 = t[1];
+    lineHalfWidth = vec2(length(side[0]), length(side[1]));
     gl_Position = view.viewProj * vec4(corners[i], 1.0);
     EmitVertex();
   }
