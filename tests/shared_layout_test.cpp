@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/constants.h"
+#include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
 #include "common/view_params.h"
@@ -54,6 +55,9 @@ namespace {
   X(origin) X(e1) X(e2) X(normal) X(knots) X(theta0) X(fixedXY) X(fixedH) X(restLength) X(restCosine) X(misc)
 #define FT_KNIT_SOLVE_PARAMS_MEMBERS(X) X(wAngle) X(wLength) X(iterations) X(stitchCount)
 #define FT_KNIT_ENERGY_GPU_MEMBERS(X) X(energy) X(steps) X(pad0) X(pad1)
+#define FT_SHADING_PARAMS_MEMBERS(X) \
+  X(fabric.colorR) X(fabric.colorTT) X(fabric.lobes) X(lightDirection) X(lightIrradiance) X(ambient) X(diffuse) \
+  X(simple) X(flags) X(background)
 // clang-format on
 
 struct Member {
@@ -104,6 +108,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(KnitSolveParams, FT_KNIT_SOLVE_PARAMS_MEMBERS, "KnitParamsBlock", "knit", FT_UBO_KNIT_PARAMS),
       FT_STORAGE_CASE(KnitStitchGpu, FT_KNIT_STITCH_GPU_MEMBERS, FT_SSBO_KNIT_STITCHES),
       FT_STORAGE_CASE(KnitEnergyGpu, FT_KNIT_ENERGY_GPU_MEMBERS, FT_SSBO_KNIT_ENERGY),
+      FT_UNIFORM_CASE(ShadingParams, FT_SHADING_PARAMS_MEMBERS, "ShadingBlock", "shading", FT_UBO_SHADING),
   };
 }
 
@@ -279,6 +284,12 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   Buffer knitCopy = Buffer::create(sizeof knit);
   knitCopy.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_KNIT_POINTS);
 
+  ShadingParams shading = pattern<ShadingParams>(1400.0f);
+  Buffer shadingUbo = Buffer::create(sizeof shading, &shading);
+  shadingUbo.bindBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING);
+  Buffer shadingCopy = Buffer::create(sizeof shading);
+  shadingCopy.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE);
+
   glUseProgram(program_.id());
   glDispatchCompute(1, 1, 1);
   glCheck("layout probe dispatch");
@@ -301,6 +312,7 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   check(9, pattern<KnitStitchGpu>(1100.0f), "KnitStitchGpu");
   check(10, pattern<KnitEnergyGpu>(1300.0f), "KnitEnergyGpu");
   expectSameBytes(knit, readBuffer<KnitSolveParams>(knitCopy.id(), 1)[0], "KnitSolveParams (uniform block)");
+  expectSameBytes(shading, readBuffer<ShadingParams>(shadingCopy.id(), 1)[0], "ShadingParams (uniform block)");
 
   // std140 uniform → std430 storage copy: both layouts equal the C++ one for these structs.
   std::vector<YarnParams> yarnBack = readBuffer<YarnParams>(copy.id(), 1);

@@ -1,8 +1,13 @@
-// Both paths: expands each fiber line into a camera-facing strip of the
-// fiber's width (§5). Indifferent to fiber type: only the width differs.
-// Each end takes its side vector from the vertex's own tangent
-// (fiber_strip_tangent.glsl), so neighbouring quads share their edge. The
-// fragment stage gives the flat strip the depth of a round fiber.
+// Both paths: turns each fiber line into a screen-facing rectangle that
+// covers the line's capsule — the tube of the fiber's half-width around the
+// line, closed by a ball at each end, the shape Embree's round linear curves
+// have (reference/fiber_trace.cpp). The fragment stage ray-casts the capsule
+// and discards what misses it, so the rectangle only has to be conservative:
+// it spans the line's screen direction ± the larger radius (plus a pixel for
+// the multisample positions) and ± that radius across. A fiber seen end-on
+// becomes a square around its end ball, not a degenerate sliver; consecutive
+// lines share their end balls, so a fiber has no cracks at its vertices.
+// Indifferent to fiber type: only the width differs.
 #include "common/constants.h"
 #include "common/view_params.h"
 
@@ -13,19 +18,21 @@ layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view
 layout(location = 0) in vec4 fiberPosition[];
 layout(location = 1) flat in uvec4 fiberId[];
 layout(location = 2) in vec3 fiberTangent[];
-layout(location = 3) in float fiberStripEnd[];
-layout(location = 0) out vec3 stripTangent;
-layout(location = 1) out float stripAcross;   // -1 .. 1 across the strip
 layout(location = 2) flat out uint stripType;
-layout(location = 3) out vec3 stripWorld;      // world position on the strip's plane
-layout(location = 4) out float stripHalfWidth; // world units
-// The line itself, for the fragment stage's ray–tube intersection: end
-// points, their unit tangents and half-widths (flat: one line per strip quad).
+layout(location = 3) out vec3 stripWorld;  // world position on the rectangle: a point of this fragment's eye ray
+// The line, for the fragment stage's ray cast: end points, their unit
+// tangents (fiber_strip_tangent.glsl) and half-widths.
 layout(location = 5) flat out vec3 lineP0;
 layout(location = 6) flat out vec3 lineP1;
 layout(location = 7) flat out vec3 lineT0;
 layout(location = 8) flat out vec3 lineT1;
 layout(location = 9) flat out vec2 lineHalfWidth;
+
+// Any unit vector ⟂ e.
+vec3 anyPerpendicular(vec3 e) {
+  vec3 c = abs(e.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  return normalize(cross(e, c));
+}
 
 void main() {
   // A hair's free end: the next period restarts at the ply, so a line
@@ -35,43 +42,53 @@ void main() {
   bool periodChange = (fiberId[0].w >> 16u) != (fiberId[1].w >> 16u);
   if (periodChange && (type0 == FT_FIBER_HAIR || type1 == FT_FIBER_HAIR)) return;
 
-  vec3 p[2] = vec3[2](fiberPosition[0].xyz, fiberPosition[1].xyz);
-  vec3 chord = p[1] - p[0];
+  vec3 p0 = fiberPosition[0].xyz, p1 = fiberPosition[1].xyz;
+  vec3 chord = p1 - p0;
   if (dot(chord, chord) <= 0.0) return;
-  chord = normalize(chord);
-  vec3 eye = view.cameraPos.xyz;
-  vec3 t[2];
-  vec3 side[2];
-  for (int i = 0; i < 2; ++i) {
-    vec3 ti = fiberTangent[i];
-    t[i] = dot(ti, ti) > 0.0 ? normalize(ti) : chord;
-    vec3 s = cross(t[i], normalize(eye - p[i]));
+  vec3 a = normalize(chord);
 #ifdef FT_FAULT_STRIP_HALF_WIDTH
-    float halfWidth = 0.5 * fiberPosition[i].w;
+  vec2 w = 0.5 * vec2(fiberPosition[0].w, fiberPosition[1].w);
 #else
-    float halfWidth = fiberPosition[i].w;
+  vec2 w = vec2(fiberPosition[0].w, fiberPosition[1].w);
 #endif
-    if (dot(s, s) <= 1e-12) return;  // looking down the fiber
-    side[i] = normalize(s) * halfWidth;
+  vec3 t0 = dot(fiberTangent[0], fiberTangent[0]) > 0.0 ? normalize(fiberTangent[0]) : a;
+  vec3 t1 = dot(fiberTangent[1], fiberTangent[1]) > 0.0 ? normalize(fiberTangent[1]) : a;
+
+  // The rectangle lies in the plane through the line's midpoint facing the
+  // eye; `along` is the line's direction in it, `across` ⟂ both. Each end
+  // is carried onto the plane along its eye ray, its radius with it.
+  vec3 eye = view.cameraPos.xyz;
+  vec3 e = eye - 0.5 * (p0 + p1);
+  float planeDepth = length(e);
+  if (planeDepth <= 0.0) return;
+  e /= planeDepth;
+  vec3 q[2];
+  float r[2];
+  for (int i = 0; i < 2; ++i) {
+    vec3 p = i == 0 ? p0 : p1;
+    float depth = dot(eye - p, e);
+    // The end's margin: the larger radius, 2 % for the ball's perspective
+    // silhouette, a pixel for the multisample positions (view.cameraPos.w =
+    // pixels per unit at depth 1). An end behind the eye keeps its place.
+    float scale = depth > 1e-6 * planeDepth ? planeDepth / depth : 1.0;
+    q[i] = eye - (eye - p) * scale;
+    r[i] = (1.02 * max(w.x, w.y) + max(depth, 0.0) / view.cameraPos.w) * scale;
   }
-  // Where two segments' strips meet at a knot their end vertices agree only
-  // to rounding and their tangents to second order: a quarter of a width
-  // of overlap closes the hairline crack without a visible cap.
-  if (fiberStripEnd[0] > 0.5) p[0] -= t[0] * (0.25 * length(side[0]));
-  if (fiberStripEnd[1] > 0.5) p[1] += t[1] * (0.25 * length(side[1]));
-  vec3 ends[2] = vec3[2](fiberPosition[0].xyz, fiberPosition[1].xyz);  // before the overlap
-  vec3 corners[4] = vec3[4](p[0] - side[0], p[0] + side[0], p[1] - side[1], p[1] + side[1]);
+  vec3 along = q[1] - q[0];
+  along -= dot(along, e) * e;
+  along = dot(along, along) > 1e-12 * dot(chord, chord) ? normalize(along) : anyPerpendicular(e);
+  vec3 across = cross(e, along);
+  float R = max(r[0], r[1]);
+  vec3 corners[4] = vec3[4](q[0] - r[0] * along - R * across, q[0] - r[0] * along + R * across,
+                            q[1] + r[1] * along - R * across, q[1] + r[1] * along + R * across);
   for (int i = 0; i < 4; ++i) {
-    stripTangent = t[i / 2];
-    stripAcross = (i % 2 == 0) ? -1.0 : 1.0;
     stripType = i < 2 ? type0 : type1;
     stripWorld = corners[i];
-    stripHalfWidth = length(side[i / 2]);
-    lineP0 = ends[0];
-    lineP1 = ends[1];
-    lineT0 = t[0];
-    lineT1 = t[1];
-    lineHalfWidth = vec2(length(side[0]), length(side[1]));
+    lineP0 = p0;
+    lineP1 = p1;
+    lineT0 = t0;
+    lineT1 = t1;
+    lineHalfWidth = w;
     gl_Position = view.viewProj * vec4(corners[i], 1.0);
     EmitVertex();
   }

@@ -6,6 +6,7 @@
 #include "common/constants.h"
 #include "common/yarn_params.h"
 #include "common/view_params.h"
+#include "common/fiber_shading.h"
 #include "common/yarn_buffers.h"
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
@@ -32,6 +33,8 @@ layout(std140, binding = FT_UBO_KNIT_PARAMS) uniform KnitParamsBlock { KnitSolve
 layout(std430, binding = FT_SSBO_KNIT_STITCHES) buffer KnitStitchGpuBuf { KnitStitchGpu data[]; } knitStitches;
 layout(std430, binding = FT_SSBO_KNIT_ENERGY) buffer KnitEnergyGpuBuf { KnitEnergyGpu data[]; } knitEnergies;
 layout(std430, binding = FT_SSBO_KNIT_POINTS) buffer KnitParamsCopyBuf { KnitSolveParams knitCopy; };
+layout(std140, binding = FT_UBO_SHADING) uniform ShadingBlock { ShadingParams shading; };
+layout(std430, binding = FT_SSBO_AMBIENT_TABLE) buffer ShadingCopyBuf { ShadingParams shadingCopy; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -52,4 +55,5 @@ void main() {
   knitStitches.data[1] = knitStitches.data[0];
   knitEnergies.data[1] = knitEnergies.data[0];
   knitCopy = knit;
+  shadingCopy = shading;
 }
