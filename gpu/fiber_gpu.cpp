@@ -424,6 +424,21 @@ void FiberGpu::drawShaded(Path path, int width, int height) {
   glDisable(GL_DEPTH_TEST);
 }
 
+std::vector<glm::vec2> FiberGpu::shadedSamplePositions() const {
+  if (!shadedTarget_) throw std::logic_error("FiberGpu: shadedSamplePositions() before drawShaded()");
+  glBindFramebuffer(GL_FRAMEBUFFER, shadedTarget_->ms.id());
+  GLint samples = 0;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  std::vector<glm::vec2> out;
+  for (GLint i = 0; i < samples; ++i) {
+    GLfloat p[2] = {0.5f, 0.5f};
+    glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(i), p);
+    out.emplace_back(p[0], 1.0f - p[1]);  // GL's pixel y points up
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return out;
+}
+
 ImageRgbaF FiberGpu::readShaded() const {
   if (!shadedTarget_) throw std::logic_error("FiberGpu: readShaded() before drawShaded()");
   ImageRgbaF img;

@@ -99,6 +99,9 @@ class FiberGpu {
   enum class Path { Compute, Tessellation };
   void drawShaded(Path path, int width, int height);
   ImageRgbaF readShaded() const;
+  // The shaded target's multisample positions in the pixel ([0, 1]², y down
+  // as the read-back image), as GL reports them (after a drawShaded()).
+  std::vector<glm::vec2> shadedSamplePositions() const;
 
  private:
   void decideAndScan();  // passes 1-2: decisions, offsets and totals of the listed segments

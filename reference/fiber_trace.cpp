@@ -389,8 +389,9 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
                         std::span<const glm::vec3> ambientTable, const TraceOptions& options) {
   if (options.samplesPerPixel < 1)
     throw std::invalid_argument(fmt::format("traceFibers: samplesPerPixel {} < 1", options.samplesPerPixel));
-  if (options.pixelCentres && options.samplesPerPixel != 1)
-    throw std::invalid_argument(fmt::format("traceFibers: pixelCentres with {} samples per pixel", options.samplesPerPixel));
+  if (!options.samplePositions.empty() && options.samplePositions.size() != size_t(options.samplesPerPixel))
+    throw std::invalid_argument(fmt::format("traceFibers: {} sample positions for {} samples per pixel",
+                                            options.samplePositions.size(), options.samplesPerPixel));
   if (options.multipleScattering && options.maxDepth < 1)
     throw std::invalid_argument(fmt::format("traceFibers: maxDepth {} < 1", options.maxDepth));
   if (camera.width < 1 || camera.height < 1)
@@ -406,7 +407,7 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
   const int width = camera.width, height = camera.height, spp = options.samplesPerPixel;
   const vec3 background(s.background);
 
-  TraceResult result{ImageRgbaF(width, height), {}};
+  TraceResult result{ImageRgbaF(width, height), {}, std::vector<uint8_t>(size_t(width) * height, 0)};
   const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
   std::atomic<uint64_t> totals[6] = {};
   int tilesDone = 0;  // guarded by progressMutex
@@ -429,9 +430,12 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
           }
           glm::dvec3 sum(0.0);
           int hits = 0;
+          uint32_t firstStrip = kNoStrip;
+          bool oneStrip = true;
           for (int k = 0; k < spp; ++k) {
             RandomStream rng(pixel, static_cast<uint32_t>(k), options.seed);
-            const glm::dvec2 j = options.pixelCentres ? glm::dvec2(0.5) : pixelSample(k, spp, grid, perm, rng);
+            const glm::dvec2 j = options.samplePositions.empty() ? pixelSample(k, spp, grid, perm, rng)
+                                                                 : glm::dvec2(options.samplePositions[k]);
             const glm::dvec2 ndc(2.0 * (x + j.x) / width - 1.0, 1.0 - 2.0 * (y + j.y) / height);
             const glm::dvec4 nearH = toWorld * glm::dvec4(ndc, -1.0, 1.0), farH = toWorld * glm::dvec4(ndc, 1.0, 1.0);
             const glm::dvec3 nearP = glm::dvec3(nearH) / nearH.w, span = glm::dvec3(farH) / farH.w - nearP;
@@ -444,6 +448,8 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
               continue;
             }
             ++hits;
+            if (firstStrip == kNoStrip) firstStrip = h.strip;
+            oneStrip = oneStrip && h.strip == firstStrip;
             const vec3 L = options.multipleScattering ? render.path(h, -dir, rng, stats)
                                                       : render.direct(h, -dir, stats) + render.ambient(h, -dir);
             if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
@@ -458,6 +464,7 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
           px[1] = static_cast<float>(mean.y);
           px[2] = static_cast<float>(mean.z);
           px[3] = static_cast<float>(double(hits) / spp);
+          result.singleStrip[pixel] = hits == spp && oneStrip;
           stats.hitSamples += static_cast<uint64_t>(hits);
         }
       const uint64_t counts[6] = {stats.cameraRays, stats.shadowRays,     stats.bounceRays,

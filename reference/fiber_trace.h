@@ -68,9 +68,10 @@ class FiberTraceScene {
 
 struct TraceOptions {
   int samplesPerPixel = 4;          // stratified jittered (a k×k grid when square, Latin hypercube otherwise)
-  // One sample at each pixel's centre (samplesPerPixel must be 1): where the
-  // GPU rasteriser shades, for the shading comparison (validation/shading_cases.cpp).
-  bool pixelCentres = false;
+  // Fixed sample positions in the pixel ([0, 1]², y down), e.g. the GPU's
+  // multisample pattern for the shading comparison (validation/
+  // shading_cases.cpp); when given, samplesPerPixel must equal their count.
+  std::vector<glm::vec2> samplePositions;
   bool shadows = true;              // trace V_i towards each light (else V_i = 1)
   bool multipleScattering = false;  // path tracing (modes in traceFibers)
   int maxDepth = 16;                // scattering events per path (multipleScattering)
@@ -91,6 +92,10 @@ struct TraceStats {
 struct TraceResult {
   ImageRgbaF image;  // linear rgb, alpha = fraction of the samples that hit a fiber; row 0 at the top
   TraceStats stats;  // stats.nonFinite > 0 is a failure of the render
+  // Per pixel: 1 when every camera sample hit the same fiber strip (one fiber
+  // in one yarn segment), 0 at any edge — a silhouette against the background
+  // or one fiber's outline over another.
+  std::vector<uint8_t> singleStrip;
 };
 
 // Renders `scene` through `camera` (the GPU's: the inverse of projection() ·

@@ -3,10 +3,10 @@
 // reference's, which the fiber cases show equal to the GPU's) and the same
 // ShadingParams:
 //   shading/direct/<fabric>/<path>: direct light + ambient table, no shadows:
-//     the two must agree up to rasterisation. Shading is compared on interior
-//     pixels (covered on both sides, with every neighbour covered too: a
-//     1-pixel erosion) with the ground truth sampled at pixel centres, where
-//     the GPU shades; coverage separately, against a 16-sample ground truth.
+//     the two must agree up to rasterisation. The ground truth samples the
+//     rasteriser's own multisample positions; shading is compared on interior
+//     pixels (every sample on one fiber strip, with all 8 neighbours so too:
+//     edges excluded), coverage separately, against a 16-sample ground truth.
 //   shading/full/<fabric>/<path>: the full ground truth (shadow rays, path-
 //     traced multiple scattering, ambient from escaping rays) against the
 //     same real-time image — informational: how far the real-time model is
@@ -42,21 +42,22 @@ const char* const kFabrics[] = {"cotton", "fleece"};
 const char* const kFullFabric = "cotton";
 
 // LDR-FLIP mean over interior pixels. Both images evaluate the same shading
-// at the same sample point on the same shape (the fragment stage ray-casts
-// each line's capsule, fiber_strip.frag.glsl, as Embree intersects its round
-// linear curves); what is left: a cylinder per line on the GPU against
-// Embree's cone, float rounding of the two intersections, and the 1°-wide R
-// lobe of cotton that turns a 1e-4 rad tangent difference into a visible
-// one. Measured on llvmpipe, both paths: built-in scene 0.0028, fiber.bcc
-// 0.0054, glove.bcc 0.0104. Tolerance 0.03: 3× the worst model; a fault that
-// only flattens the diffuse normal (shade-flat-normal) reads 0.21–0.24, and
-// interpolating tangent and normal over the strip quads instead of ray
-// casting read 0.055 (default) to 0.12 (fiber.bcc).
+// on the same shape at the same multisample positions (the fragment stage
+// ray-casts each line's capsule per sample, fiber_strip.frag.glsl, as Embree
+// intersects its round linear curves); what is left: the GPU shades once per
+// pixel where the truth shades each sample, a cylinder per line against
+// Embree's cone, float rounding of the two intersections, and cotton's
+// 1°-wide R lobe that turns a 1e-4 rad tangent difference into a visible one.
+// Measured on llvmpipe, both paths: built-in scene 0.0029–0.0033, fiber.bcc
+// 0.0051–0.0054, glove.bcc 0.0064–0.0071. Tolerance 0.03: 4× the worst model;
+// a fault that only flattens the diffuse normal (shade-flat-normal) reads
+// 0.18–0.21, and interpolating tangent and normal over strip quads instead of
+// ray casting read 0.055 (built-in scene) to 0.12 (fiber.bcc).
 constexpr double kFlipInteriorTolerance = 0.03;
 // Coverage: the mean |α_gpu − α_truth| over the image, α_truth from 16
 // stratified samples per pixel and α_gpu from 4× MSAA; 4 samples resolve
 // coverage in steps of ¼, so a thin fiber's edge pixels differ by up to ⅛
-// on average. Measured 0.0032–0.0097; 0.02 is a fiber-wide shift of the outlines.
+// on average. Measured 0.0013–0.0040; 0.02 is a fiber-wide shift of the outlines.
 constexpr double kCoverageTolerance = 0.02;
 
 struct GroundTruthInputs {
@@ -102,17 +103,19 @@ size_t nonFinite(const ImageRgbaF& img) {
   return n;
 }
 
-// Interior: the pixel and its 8 neighbours fully covered in both images.
-std::vector<uint8_t> interiorMask(const ImageRgbaF& gpu, const ImageRgbaF& truth) {
+// Interior: the pixel and its 8 neighbours fully covered by the GPU and, in
+// the ground truth, each covered by a single fiber strip at every sample
+// (TraceResult::singleStrip): no silhouette, and no fiber's outline over
+// another, where per-pixel and per-sample shading must differ.
+std::vector<uint8_t> interiorMask(const ImageRgbaF& gpu, const TraceResult& truth) {
   const int w = gpu.width, h = gpu.height;
-  std::vector<uint8_t> covered(gpu.pixelCount()), mask(gpu.pixelCount(), 0);
-  for (size_t i = 0; i < covered.size(); ++i)
-    covered[i] = gpu.pixels[i * 4 + 3] >= 1.0f && truth.pixels[i * 4 + 3] >= 1.0f;
+  std::vector<uint8_t> inside(gpu.pixelCount()), mask(gpu.pixelCount(), 0);
+  for (size_t i = 0; i < inside.size(); ++i) inside[i] = gpu.pixels[i * 4 + 3] >= 1.0f && truth.singleStrip[i];
   for (int y = 1; y + 1 < h; ++y)
     for (int x = 1; x + 1 < w; ++x) {
       bool all = true;
       for (int dy = -1; dy <= 1 && all; ++dy)
-        for (int dx = -1; dx <= 1 && all; ++dx) all = covered[size_t(y + dy) * w + (x + dx)] != 0;
+        for (int dx = -1; dx <= 1 && all; ++dx) all = inside[size_t(y + dy) * w + (x + dx)] != 0;
       mask[size_t(y) * w + x] = all;
     }
   return mask;
@@ -143,21 +146,24 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tes
 
   const auto t1 = Clock::now();
   const std::vector<glm::vec3> table = bakeAmbientTableCpu(s.fabric);
-  TraceOptions centre;
-  centre.samplesPerPixel = 1;
-  centre.pixelCentres = true;
-  centre.shadows = false;
-  const TraceResult truth = traceFibers(*in.scene, in.camera, s, table, centre);
-  TraceOptions coverage = centre;
-  coverage.pixelCentres = false;
+  // The ground truth at the rasteriser's own multisample positions: the same
+  // samples decide coverage on both sides, and the GPU shades once per pixel
+  // per fiber where the truth shades each sample.
+  TraceOptions samples;
+  samples.samplePositions = ctx.fiberGpu().shadedSamplePositions();
+  samples.samplesPerPixel = static_cast<int>(samples.samplePositions.size());
+  samples.shadows = false;
+  const TraceResult truth = traceFibers(*in.scene, in.camera, s, table, samples);
+  TraceOptions coverage;
   coverage.samplesPerPixel = 16;
+  coverage.shadows = false;
   const TraceResult truth16 = traceFibers(*in.scene, in.camera, s, table, coverage);
   r.cpuMilliseconds = msSince(t1);
 
   r.metrics.push_back(nonFiniteMetric("gpu", nonFinite(gpu), "shaded GPU pixel values"));
   r.metrics.push_back(nonFiniteMetric("cpu", truth.stats.nonFinite + truth16.stats.nonFinite + nonFinite(truth.image),
                                       "ground-truth samples and pixel values"));
-  const std::vector<uint8_t> mask = interiorMask(gpu, truth.image);
+  const std::vector<uint8_t> mask = interiorMask(gpu, truth);
   size_t interior = 0;
   for (uint8_t m : mask) interior += m;
   // FLIP's filters reach ~10 px, so an edge difference would leak into the

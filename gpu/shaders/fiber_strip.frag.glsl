@@ -1,8 +1,9 @@
 // Both paths' fragment stage: a ray-cast impostor. The geometry stage's
 // rectangle covers the line's capsule (the tube of the fiber's half-width
 // around the line and a ball at each end, the shape of Embree's round linear
-// curves in the ground truth, reference/fiber_trace.cpp); each fragment casts
-// its eye ray against that capsule and discards a miss. The hit gives the
+// curves in the ground truth, reference/fiber_trace.cpp); each fragment tests
+// the capsule at its multisample positions (coverage) and casts one eye ray
+// against it for shading, and is discarded when no sample is covered. The hit gives the
 // fiber's depth (crossing plies and a core inside its ply intersect as tubes
 // do), its place along the line (which mixes the two vertex tangents) and its
 // normal. Interpolating tangent and "across" over a strip quad instead is
@@ -42,14 +43,12 @@ struct FiberHit {
   vec3 normal;
 };
 
-// The first hit of the ray o + s·d (d unit; o = stripWorld, a point of the
-// eye ray within a few radii of the line, so the quadratics are solved
-// relative to it: from the eye they would lose the radius², ~1e-6 of the
-// distance², to float rounding) with the capsule. s may be negative (the hit
-// is nearer the eye than o).
-bool castCapsule(out FiberHit h) {
-  vec3 o = stripWorld;
-  vec3 d = normalize(stripWorld - view.cameraPos.xyz);
+// The first hit of the eye ray through o with the capsule. o is a point of
+// the rectangle, within a few radii of the line, so the quadratics are solved
+// relative to it (from the eye they would lose the radius², ~1e-6 of the
+// distance², to float rounding); the hit may lie nearer the eye than o.
+bool castCapsule(vec3 o, out FiberHit h) {
+  vec3 d = normalize(o - view.cameraPos.xyz);
   vec3 axis = lineP1 - lineP0;
   float len2 = max(dot(axis, axis), 1e-30);
   vec3 a = axis * inversesqrt(len2);
@@ -109,8 +108,25 @@ vec3 shadeFiber(FiberHit h) {
 }
 
 void main() {
+  // Coverage: the capsule tested at each multisample position (the rectangle
+  // point there lies on that sample's eye ray), so a fiber thinner than a
+  // pixel keeps the 4× coverage a plain strip had. Shading: once, at the
+  // pixel centre's hit, or at the first covered sample's when the centre misses.
   FiberHit h;
-  if (!castCapsule(h)) discard;
+  bool shadeHit = castCapsule(stripWorld, h);
+  int mask = 0;
+  for (int i = 0; i < gl_NumSamples; ++i) {
+    FiberHit hs;
+    if (!castCapsule(interpolateAtSample(stripWorld, i), hs)) continue;
+    mask |= 1 << i;
+    if (!shadeHit) {
+      h = hs;
+      shadeHit = true;
+    }
+  }
+  mask &= gl_SampleMaskIn[0];
+  if (mask == 0 || !shadeHit) discard;
+  gl_SampleMask[0] = mask;
   if (shaded != 0u) {
     color = vec4(shadeFiber(h), 1.0);
   } else {

@@ -3,8 +3,8 @@
 // line, closed by a ball at each end, the shape Embree's round linear curves
 // have (reference/fiber_trace.cpp). The fragment stage ray-casts the capsule
 // and discards what misses it, so the rectangle only has to be conservative:
-// it spans the line's screen direction ± the larger radius (plus a pixel for
-// the multisample positions) and ± that radius across. A fiber seen end-on
+// it spans the line's screen direction ± the larger radius and ± that radius
+// across. A fiber seen end-on
 // becomes a square around its end ball, not a degenerate sliver; consecutive
 // lines share their end balls, so a fiber has no cracks at its vertices.
 // Indifferent to fiber type: only the width differs.
@@ -67,12 +67,14 @@ void main() {
   for (int i = 0; i < 2; ++i) {
     vec3 p = i == 0 ? p0 : p1;
     float depth = dot(eye - p, e);
-    // The end's margin: the larger radius, 2 % for the ball's perspective
-    // silhouette, a pixel for the multisample positions (view.cameraPos.w =
-    // pixels per unit at depth 1). An end behind the eye keeps its place.
+    // The end's margin: the larger radius and 2 % for the ball's perspective
+    // silhouette (asin against atan of radius/depth). Every multisample
+    // position inside the capsule's silhouette is then inside the rectangle;
+    // the fragment stage decides coverage per sample. An end behind the eye
+    // keeps its place.
     float scale = depth > 1e-6 * planeDepth ? planeDepth / depth : 1.0;
     q[i] = eye - (eye - p) * scale;
-    r[i] = (1.02 * max(w.x, w.y) + max(depth, 0.0) / view.cameraPos.w) * scale;
+    r[i] = 1.02 * max(w.x, w.y) * scale;
   }
   vec3 along = q[1] - q[0];
   along -= dot(along, e) * e;
