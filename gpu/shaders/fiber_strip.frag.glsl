@@ -114,8 +114,20 @@ void main() {
   // pixel centre's hit, or at the first covered sample's when the centre misses.
   FiberHit h;
   bool shadeHit = castCapsule(stripWorld, h);
-  int mask = 0;
-  for (int i = 0; i < gl_NumSamples; ++i) {
+  // A centre ray that passes the axis well inside the radius (by more than the
+  // pixel's diagonal at that depth) has every sample inside: skip the tests.
+  vec3 eye = view.cameraPos.xyz;
+  vec3 axis = lineP1 - lineP0;
+  float len2 = max(dot(axis, axis), 1e-30);
+  vec3 d = normalize(stripWorld - eye), m = stripWorld - lineP0;
+  vec3 c = cross(d, axis);
+  float u = dot(m - dot(m, d) * d, axis) / len2;  // ≈ the place of the ray's closest approach
+  float axisDistance = dot(c, c) > 0.0 ? abs(dot(m, c)) * inversesqrt(dot(c, c)) : 3.0e38;
+  float footprint = 0.75 * distance(eye, stripWorld) / view.cameraPos.w;
+  bool deepInside = shadeHit && u > 0.0 && u < 1.0 &&
+                    axisDistance + footprint < min(lineHalfWidth.x, lineHalfWidth.y);
+  int mask = deepInside ? (1 << gl_NumSamples) - 1 : 0;
+  for (int i = 0; i < gl_NumSamples && !deepInside; ++i) {
     FiberHit hs;
     if (!castCapsule(interpolateAtSample(stripWorld, i), hs)) continue;
     mask |= 1 << i;

@@ -18,6 +18,7 @@ layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view
 layout(location = 0) in vec4 fiberPosition[];
 layout(location = 1) flat in uvec4 fiberId[];
 layout(location = 2) in vec3 fiberTangent[];
+layout(location = 3) in float fiberStripEnd[];  // 1 at the first or last vertex of a strip
 layout(location = 2) flat out uint stripType;
 layout(location = 3) out vec3 stripWorld;  // world position on the rectangle: a point of this fragment's eye ray
 // The line, for the fragment stage's ray cast: end points, their unit
@@ -63,7 +64,8 @@ void main() {
   if (planeDepth <= 0.0) return;
   e /= planeDepth;
   vec3 q[2];
-  float r[2];
+  float r[2], ext[2];
+  vec3 tEnd[2] = vec3[2](t0, t1);
   for (int i = 0; i < 2; ++i) {
     vec3 p = i == 0 ? p0 : p1;
     float depth = dot(eye - p, e);
@@ -75,14 +77,22 @@ void main() {
     float scale = depth > 1e-6 * planeDepth ? planeDepth / depth : 1.0;
     q[i] = eye - (eye - p) * scale;
     r[i] = 1.02 * max(w.x, w.y) * scale;
+    // Along the line, a strip's own end needs the whole ball. A joint inside
+    // a strip needs the tube's end disc, which reaches w·|a·e| past the end
+    // on screen, and the wedge of the joint's ball between this tube and the
+    // next on the outside of the bend, w·sin φ with φ ≈ twice the angle
+    // between the chord and the vertex tangent. (All of the ball would double
+    // the fragments of thick, finely divided cores.)
+    float sinHalfBend = length(cross(a, tEnd[i]));
+    ext[i] = fiberStripEnd[i] > 0.5 ? r[i] : r[i] * min(1.0, abs(dot(a, e)) + 2.0 * sinHalfBend + 0.01);
   }
   vec3 along = q[1] - q[0];
   along -= dot(along, e) * e;
   along = dot(along, along) > 1e-12 * dot(chord, chord) ? normalize(along) : anyPerpendicular(e);
   vec3 across = cross(e, along);
   float R = max(r[0], r[1]);
-  vec3 corners[4] = vec3[4](q[0] - r[0] * along - R * across, q[0] - r[0] * along + R * across,
-                            q[1] + r[1] * along - R * across, q[1] + r[1] * along + R * across);
+  vec3 corners[4] = vec3[4](q[0] - ext[0] * along - R * across, q[0] - ext[0] * along + R * across,
+                            q[1] + ext[1] * along - R * across, q[1] + ext[1] * along + R * across);
   for (int i = 0; i < 4; ++i) {
     stripType = i < 2 ? type0 : type1;
     stripWorld = corners[i];

@@ -14,6 +14,7 @@ uniform uint vertexTotal;  // vertices written; the buffer may be longer
 layout(location = 0) out vec4 fiberPosition;
 layout(location = 1) flat out uvec4 fiberId;
 layout(location = 2) out vec3 fiberTangent;
+layout(location = 3) out float fiberStripEnd;  // 1 at the first or last vertex of a strip
 
 void main() {
   int i = gl_VertexID;
@@ -28,5 +29,6 @@ void main() {
   fiberPosition = v.position;
   fiberId = v.id;
   fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
+  fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
   gl_Position = view.viewProj * vec4(v.position.xyz, 1.0);
 }

@@ -21,6 +21,7 @@ layout(location = 1) flat out uvec4 fiberId;
 // Drawing only (the capture program has no strips): the neighbours at
 // vertex ± 1, 2 of the same fiber, evaluated here, give the strip tangent.
 layout(location = 2) out vec3 fiberTangent;
+layout(location = 3) out float fiberStripEnd;
 #endif
 
 void main() {
@@ -65,6 +66,7 @@ void main() {
     p[k + 2] = nv.position.xyz;
   }
   fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
+  fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
 #endif
   gl_Position = view.viewProj * vec4(fv.position.xyz, 1.0);
 }
