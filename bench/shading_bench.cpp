@@ -59,7 +59,7 @@ void BM_Shaded(benchmark::State& state, ft::FiberGpu::Path path, const ft::ViewP
     g->gpu->drawShaded(path, g->width, g->height);
     state.SetIterationTime(g->timer->endMs() * 1e-3);
   }
-  state.counters["vertices"] = path == ft::FiberGpu::Path::Compute ? g->gpu->readDrawCommand().vertexTotal : 0;
+  if (path == ft::FiberGpu::Path::Compute) state.counters["vertices"] = g->gpu->readDrawCommand().vertexTotal;
 }
 
 void BM_Preview(benchmark::State& state, const ft::ViewParams* view) {
