@@ -1,12 +1,11 @@
 // fabric.cpp — the fabric-presets table parser (data/fabric-bcsdf.tsv).
 #include "scene/fabric.h"
 
-#include <charconv>
 #include <cmath>
 #include <map>
-#include <optional>
 
 #include "scene/input_error.h"
+#include "scene/text_fields.h"
 
 extern const char ftEmbeddedFabricPresets[];
 
@@ -16,25 +15,6 @@ namespace {
 
 constexpr const char* kColumns[] = {"name",    "C_R_r",   "C_R_g",      "C_R_b",       "C_TT_r",
                                     "C_TT_g",  "C_TT_b",  "beta_R_deg", "beta_TT_deg", "gamma_TT_deg"};
-
-std::vector<std::string_view> splitTabs(std::string_view line) {
-  std::vector<std::string_view> out;
-  size_t start = 0;
-  while (true) {
-    const size_t tab = line.find('\t', start);
-    out.push_back(line.substr(start, tab == std::string_view::npos ? std::string_view::npos : tab - start));
-    if (tab == std::string_view::npos) break;
-    start = tab + 1;
-  }
-  return out;
-}
-
-std::optional<double> parseReal(std::string_view s) {
-  double v = 0.0;
-  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || p != s.data() + s.size() || s.empty() || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
 
 }  // namespace
 
@@ -81,8 +61,8 @@ std::vector<FabricPreset> parseFabricPresets(std::string_view text, std::string_
     if (f.name.empty()) fail("column 'name' is empty");
     const auto real = [&](const char* column, double lo, double hi, bool openLow) {
       const std::string_view v = fields[index.at(column)];
-      const auto x = parseReal(v);
-      if (!x) fail(std::string("column '") + column + "': '" + std::string(v) + "' is not a finite number");
+      const auto x = parseWholeReal(v);
+      if (!x || !std::isfinite(*x)) fail(std::string("column '") + column + "': '" + std::string(v) + "' is not a finite number");
       if (*x > hi || *x < lo || (openLow && *x == lo))
         fail(std::string("column '") + column + "': " + std::string(v) + " is outside " + (openLow ? "(" : "[") +
              std::to_string(lo) + ", " + std::to_string(hi) + "]");

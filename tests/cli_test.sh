@@ -275,8 +275,8 @@ IMG="$(dirname "$0")/../docs/images"
 run_case "compare <missing>" 2 "$missing" "cannot open" -- compare "$missing" "$IMG/knit-rest.png"
 run_case "compare <not an image>" 2 "nonmanifold_edge.obj" "neither a PNG nor an OpenEXR" -- \
   compare "$KC/nonmanifold_edge.obj" "$IMG/knit-rest.png"
-run_case "compare: sizes differ" 2 "knit-rest.png is 640x480" "default-silk1.png is 960x720" -- \
-  compare "$IMG/knit-rest.png" "$IMG/default-silk1.png" --error-map "$TMP/map.png"
+run_case "compare: sizes differ" 2 "knit-rest.png is 640x480" "glove-cotton.png is 1280x960" -- \
+  compare "$IMG/knit-rest.png" "$IMG/glove-cotton.png" --error-map "$TMP/map.png"
 expect_absent "compare: sizes differ (no error map)" "$TMP/map.png"
 run_case "compare --ppd 0" 2 "pixels per degree 0" -- compare "$IMG/knit-rest.png" "$IMG/knit-rest.png" --ppd 0
 run_case "compare --tonemapper nosuch" 2 "--tonemapper" "nosuch" -- \

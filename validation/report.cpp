@@ -329,11 +329,12 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
        "the tolerance the value is); a dot means a value of exactly 0. Italic metrics are informational. Hover a "
        "metric for its unit and why its tolerance is what it is. The histogram counts per-item errors by decade, "
        "with the tolerance of the metric it bins as a dashed line. Thumbnails: the CPU reference's output, then "
-       "the GPU path's own, same view.</p>\n";
+       "the GPU path's own, same view; the shading cases show the GPU image, the Embree ground truth and the FLIP "
+       "error map.</p>\n";
   h << "<div class='controls'><label>Find <input id='case-filter' type='search' placeholder='case name'></label>"
        "<label><input id='only-failures' type='checkbox'> only failures</label><span id='shown-count'></span></div>\n";
   h << "<table class='cases'><thead><tr><th>case</th><th>result</th><th>metrics: value, tolerance, margin</th>"
-       "<th>error histogram</th><th>CPU / GPU</th><th>ms<br>cpu / gpu</th></tr></thead><tbody>\n";
+       "<th>error histogram</th><th>images</th><th>ms<br>cpu / gpu</th></tr></thead><tbody>\n";
   for (const CaseResult* rp : order) {
     const CaseResult& r = *rp;
     h << "<tr class='case " << (r.pass ? "passed" : "failed") << "' id='" << anchor(r.name) << "' data-name='"

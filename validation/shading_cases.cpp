@@ -133,16 +133,33 @@ ImageRgbaF renderGpu(ValidationContext& ctx, const GroundTruthInputs& in, const 
   return tessellation ? gpu.renderTessellationShaded(kWidth, kHeight) : gpu.renderComputeShaded(kWidth, kHeight);
 }
 
-CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
-  CaseResult r;
-  r.name = name;
-  r.group = "shading";
-  r.path = tessellation ? "tessellation" : "compute";
-  GroundTruthInputs& in = groundTruthInputs(ctx);
-  const ShadingParams s = makeShadingParams(caseLighting(fabric));
+// What both kinds of case start with: the result's identity, the lighting
+// and the GPU's shaded image (timed).
+struct ShadedGpuImage {
+  CaseResult result;
+  GroundTruthInputs* inputs;
+  ShadingParams shading;
+  ImageRgbaF image;
+};
+
+ShadedGpuImage startCase(ValidationContext& ctx, const std::string& fabric, bool tessellation,
+                         const std::string& name) {
+  ShadedGpuImage c{CaseResult{}, &groundTruthInputs(ctx), makeShadingParams(caseLighting(fabric)), {}};
+  c.result.name = name;
+  c.result.group = "shading";
+  c.result.path = tessellation ? "tessellation" : "compute";
   const auto t0 = Clock::now();
-  const ImageRgbaF gpu = renderGpu(ctx, in, s, tessellation);
-  r.gpuMilliseconds = msSince(t0);
+  c.image = renderGpu(ctx, *c.inputs, c.shading, tessellation);
+  c.result.gpuMilliseconds = msSince(t0);
+  return c;
+}
+
+CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
+  ShadedGpuImage start = startCase(ctx, fabric, tessellation, name);
+  CaseResult& r = start.result;
+  const GroundTruthInputs& in = *start.inputs;
+  const ShadingParams& s = start.shading;
+  const ImageRgbaF& gpu = start.image;
 
   const auto t1 = Clock::now();
   const std::vector<glm::vec3> table = bakeAmbientTableCpu(s.fabric);
@@ -209,19 +226,15 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tes
   r.details = fmt::format("fabric {}, camera {}x{} close-up, {} interior pixels; ground truth {} rays", fabric, kWidth,
                           kHeight, interior, truth.stats.rays() + truth16.stats.rays());
   r.finish();
-  return r;
+  return std::move(r);
 }
 
 CaseResult runFull(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
-  CaseResult r;
-  r.name = name;
-  r.group = "shading";
-  r.path = tessellation ? "tessellation" : "compute";
-  GroundTruthInputs& in = groundTruthInputs(ctx);
-  const ShadingParams s = makeShadingParams(caseLighting(fabric));
-  const auto t0 = Clock::now();
-  const ImageRgbaF gpu = renderGpu(ctx, in, s, tessellation);
-  r.gpuMilliseconds = msSince(t0);
+  ShadedGpuImage start = startCase(ctx, fabric, tessellation, name);
+  CaseResult& r = start.result;
+  const GroundTruthInputs& in = *start.inputs;
+  const ShadingParams& s = start.shading;
+  const ImageRgbaF& gpu = start.image;
   const auto t1 = Clock::now();
   TraceOptions full;
   full.samplesPerPixel = 16;
@@ -246,7 +259,7 @@ CaseResult runFull(ValidationContext& ctx, const std::string& fabric, bool tesse
   r.details = fmt::format("fabric {}, {} spp, depth ≤ {}, {} rays, {} paths cut at the depth cap", fabric,
                           full.samplesPerPixel, full.maxDepth, truth.stats.rays(), truth.stats.truncatedPaths);
   r.finish();
-  return r;
+  return std::move(r);
 }
 
 }  // namespace
