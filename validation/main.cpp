@@ -1,7 +1,8 @@
 // fibertwin — command-line program: cross-check the GPU paths against the CPU
-// reference (`validate`), render a yarn model (`render`), optimize a deformed
-// stitch mesh into yarn curves (`knit`), describe the GL renderer (`info`) and
-// list injectable faults (`faults`).
+// reference (`validate`), render a yarn model on the GPU (`render`) and its
+// Embree ground truth (`trace`), compare two images (`compare`), optimize a
+// deformed stitch mesh into yarn curves (`knit`), describe the GL renderer
+// (`info`) and list injectable faults (`faults`).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
