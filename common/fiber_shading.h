@@ -13,6 +13,18 @@
 #define FT_FIBER_SHADING_H
 #include "bcsdf.h"
 
+// Planted fault (validation/faults.def), shared: run-time switch in C++, define in GLSL.
+#ifdef __cplusplus
+namespace ft {
+inline bool ftFaultShadingCosDropped = false;
+}
+#define FT_FAULT_SHADING_COS_DROPPED_ON ::ft::ftFaultShadingCosDropped
+#elif defined(FT_FAULT_SHADING_COS_DROPPED)
+#define FT_FAULT_SHADING_COS_DROPPED_ON true
+#else
+#define FT_FAULT_SHADING_COS_DROPPED_ON false
+#endif
+
 #define FT_MAX_LIGHTS 4
 #define FT_SHADING_KHUNGURN 0u
 #define FT_SHADING_SIMPLE 1u
@@ -47,7 +59,8 @@ FT_FUNC vec3 ftFiberDirect(ShadingParams s, int i, vec3 t, vec3 n, vec3 wo) {
   vec3 f = s.flags.y == FT_SHADING_SIMPLE ? vec3(ftSimpleSpecular(s.simple.x, s.simple.y, a))
                                           : ftBcsdf(s.fabric, a);
   vec3 diffuse = vec3(s.diffuse) * (max(dot(n, wi), 0.0f) / FT_PI);
-  return vec3(s.lightIrradiance[i]) * (f * cos(a.thetaI) + diffuse);
+  float cosThetaI = FT_FAULT_SHADING_COS_DROPPED_ON ? 1.0f : cos(a.thetaI);  // eq. 7 as printed: no cos θ_i
+  return vec3(s.lightIrradiance[i]) * (f * cosThetaI + diffuse);
 }
 
 // The ambient term L_amb [A(θ_o) + k_d], given A(θ_o) from the table.

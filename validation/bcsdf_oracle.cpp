@@ -95,4 +95,65 @@ Nodes panelNodes(double a, double b, std::vector<double> cuts, double maxPanel, 
   return out;
 }
 
+namespace {
+
+double gaussian(double x, double beta) { return std::exp(-0.5 * x * x / (beta * beta)) / (std::sqrt(2.0 * kPi) * beta); }
+
+// Over the lobe's ±8β (the rest is below e^−32 of its peak), in panels of β/2.
+double lobeNorm(double beta, double thetaI) {
+  const double a = std::max(-0.5 * kPi, -thetaI - 8.0 * beta), b = std::min(0.5 * kPi, -thetaI + 8.0 * beta);
+  if (b <= a) return 0.0;
+  const Nodes q = panelNodes(a, b, {-thetaI}, beta / 2.0, 8);
+  double z = 0.0;
+  for (size_t k = 0; k < q.x.size(); ++k) z += q.w[k] * gaussian(q.x[k] + thetaI, beta) * std::cos(q.x[k]) * std::cos(q.x[k]);
+  return z;
+}
+
+// θ = asin(ω·t); φ from the parts of ω_i and ω_o perpendicular to t.
+void localAngles(glm::dvec3 t, glm::dvec3 wi, glm::dvec3 wo, double& thetaI, double& thetaO, double& phi) {
+  thetaI = std::asin(std::clamp(glm::dot(wi, t), -1.0, 1.0));
+  thetaO = std::asin(std::clamp(glm::dot(wo, t), -1.0, 1.0));
+  const glm::dvec3 pi = wi - glm::dot(wi, t) * t, po = wo - glm::dot(wo, t) * t;
+  const double d = glm::length(pi) * glm::length(po);
+  phi = d > 0.0 ? std::acos(std::clamp(glm::dot(pi, po) / d, -1.0, 1.0)) : 0.0;
+}
+
+}  // namespace
+
+glm::dvec3 bcsdf(const Fabric& f, double thetaI, double thetaO, double phi) {
+  const glm::dvec3 F = fresnel(f, thetaI);
+  const double mR = gaussian(thetaI + thetaO, f.betaR()) / lobeNorm(f.betaR(), thetaI);
+  const double mTT = gaussian(thetaI + thetaO, f.betaTT()) / lobeNorm(f.betaTT(), thetaI);
+  const double k = f.kappa();
+  const double nTT = std::exp(k * std::cos(phi - kPi)) / (2.0 * kPi * std::cyl_bessel_i(0.0, k));
+  const glm::dvec3 cTT(f.colorTT[0], f.colorTT[1], f.colorTT[2]);
+  return F * (mR / (2.0 * kPi)) + (glm::dvec3(1.0) - F) * cTT * (mTT * nTT);
+}
+
+glm::dvec3 ambientIntegral(const Fabric& f, double thetaO) {
+  const double bR = f.betaR(), bT = f.betaTT();
+  const Nodes q = panelNodes(-0.5 * kPi, 0.5 * kPi,
+                             {-thetaO - 8.0 * bR, -thetaO, -thetaO + 8.0 * bR, -thetaO - 8.0 * bT, -thetaO + 8.0 * bT},
+                             bR / 2.0, 8);
+  const glm::dvec3 cTT(f.colorTT[0], f.colorTT[1], f.colorTT[2]);
+  glm::dvec3 a(0.0);
+  for (size_t k = 0; k < q.x.size(); ++k) {
+    const double ti = q.x[k];
+    const glm::dvec3 F = fresnel(f, ti);
+    const double mR = gaussian(ti + thetaO, bR) / lobeNorm(bR, ti);
+    const double mTT = gaussian(ti + thetaO, bT) / lobeNorm(bT, ti);
+    a += q.w[k] * std::cos(ti) * std::cos(ti) * (F * mR + (glm::dvec3(1.0) - F) * cTT * mTT);
+  }
+  return a;
+}
+
+glm::dvec3 fiberRadiance(const Fabric& f, const Lighting& l, glm::dvec3 t, glm::dvec3 n, glm::dvec3 wo) {
+  double thetaI = 0, thetaO = 0, phi = 0;
+  localAngles(t, l.toLight, wo, thetaI, thetaO, phi);
+  const glm::dvec3 direct =
+      l.irradiance * (bcsdf(f, thetaI, thetaO, phi) * std::cos(thetaI) +
+                      l.diffuse * (std::max(glm::dot(n, l.toLight), 0.0) / kPi));
+  return direct + l.ambient * (ambientIntegral(f, thetaO) + l.diffuse);
+}
+
 }  // namespace ft::oracle

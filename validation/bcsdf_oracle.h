@@ -50,4 +50,20 @@ struct Nodes {
 };
 Nodes panelNodes(double a, double b, std::vector<double> cuts, double maxPanel, int n);
 
+// Eq. 6 in full, per channel, at fiber-local angles: the Gaussian lobes
+// normalised by Z(θ_i) = ∫ g(θ + θ_i; β) cos²θ dθ over (−π/2, π/2) (by
+// quadrature here), N_R = 1/2π, N_TT the von Mises centred at π with
+// std::cyl_bessel_i.
+glm::dvec3 bcsdf(const Fabric& f, double thetaI, double thetaO, double phi);
+// The ambient integral A(θ_o) = ∫ [F M_R + (1 − F) C_TT M_TT] cos²θ_i dθ_i.
+glm::dvec3 ambientIntegral(const Fabric& f, double thetaO);
+// The radiance of eq. 7 (with eq. 8's cos θ_i and the k_d/π diffuse term) at
+// a fiber point with unit tangent t and normal n, seen along ω_o (towards the
+// eye), under one directional light (unit ω_i, irradiance E) and a uniform
+// ambient L_amb.
+struct Lighting {
+  glm::dvec3 toLight{0, 1, 0}, irradiance{1}, ambient{0}, diffuse{0};
+};
+glm::dvec3 fiberRadiance(const Fabric& f, const Lighting& l, glm::dvec3 t, glm::dvec3 n, glm::dvec3 wo);
+
 }  // namespace ft::oracle

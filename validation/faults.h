@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "common/bcsdf.h"
+#include "common/fiber_shading.h"
 #include "common/yarn_frame.h"
 
 namespace ft {
@@ -33,6 +34,7 @@ inline constexpr Fault kFaults[] = {
 inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
   if (define == "FT_FAULT_BCSDF_NORM_THETA_I") ftFaultBcsdfNormThetaI = on;
+  if (define == "FT_FAULT_SHADING_COS_DROPPED") ftFaultShadingCosDropped = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
