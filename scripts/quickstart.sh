@@ -6,4 +6,4 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake --preset release
 cmake --build --preset release
-./build/release/validation/fibertwin validate --report fibertwin-report "$@"
+./build/release/cli/fibertwin validate --report fibertwin-report "$@"

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <random>
 
+#include "gpu/bcsdf_gpu.h"
 #include "reference/bcsdf_tables.h"
 #include "scene/fabric.h"
 #include "validation/bcsdf_oracle.h"
@@ -224,9 +225,9 @@ CaseResult runGridCase(ValidationContext& ctx, const FabricPreset& preset, const
   const std::vector<glm::vec3> cpuDir = evaluateBcsdfCpu(p, fiberAnglesCpu(d.t, d.wi, d.wo));
   r.cpuMilliseconds = msSince(t0);
   t0 = Clock::now();
-  const std::vector<glm::vec3> gpu = ctx.bcsdfGpu().evaluateAngles(p, grid);
-  const std::vector<glm::vec3> gpuDir = ctx.bcsdfGpu().evaluateDirections(p, d.t, d.wi, d.wo);
-  const std::vector<FiberAngles> gpuAngles = ctx.bcsdfGpu().fiberAngles(d.t, d.wi, d.wo);
+  const std::vector<glm::vec3> gpu = ctx.gpu<BcsdfGpu>().evaluateAngles(p, grid);
+  const std::vector<glm::vec3> gpuDir = ctx.gpu<BcsdfGpu>().evaluateDirections(p, d.t, d.wi, d.wo);
+  const std::vector<FiberAngles> gpuAngles = ctx.gpu<BcsdfGpu>().fiberAngles(d.t, d.wi, d.wo);
   r.gpuMilliseconds = msSince(t0);
   double thetaError = 0.0, phiError = 0.0;
   for (size_t i = 0; i < dgrid.size(); ++i) {
@@ -274,8 +275,8 @@ CaseResult runSimpleGridCase(ValidationContext& ctx, const std::string& name) {
     const std::vector<glm::vec3> cpuDir = splat(evaluateSimpleSpecularCpu(mode.ks, mode.beta, dAngles));
     r.cpuMilliseconds += msSince(t0);
     t0 = Clock::now();
-    const std::vector<glm::vec3> gpu = ctx.bcsdfGpu().evaluateAngles(FabricParams{}, grid, mode);
-    const std::vector<glm::vec3> gpuDir = ctx.bcsdfGpu().evaluateDirections(FabricParams{}, d.t, d.wi, d.wo, mode);
+    const std::vector<glm::vec3> gpu = ctx.gpu<BcsdfGpu>().evaluateAngles(FabricParams{}, grid, mode);
+    const std::vector<glm::vec3> gpuDir = ctx.gpu<BcsdfGpu>().evaluateDirections(FabricParams{}, d.t, d.wi, d.wo, mode);
     r.gpuMilliseconds += msSince(t0);
     const Worst wa = gridError(cpu, gpu, 33 * 32, &r.histogram), wb = gridError(cpuDir, gpuDir, 33 * 32);
     if (!std::isnan(a.value) && !(wa.value <= a.value)) a = wa;  // a NaN sticks
@@ -306,7 +307,7 @@ CaseResult runAmbientCase(ValidationContext& ctx, const FabricPreset& preset, co
   const std::vector<glm::dvec3> ref = cpu.total();
   r.cpuMilliseconds = msSince(t0);
   t0 = Clock::now();
-  const std::vector<glm::vec3> gpu = ctx.bcsdfGpu().bakeAmbientTable(p);
+  const std::vector<glm::vec3> gpu = ctx.gpu<BcsdfGpu>().bakeAmbientTable(p);
   r.gpuMilliseconds = msSince(t0);
   Worst w;
   for (size_t k = 0; k < ref.size(); ++k)
@@ -386,7 +387,7 @@ CaseResult runAlbedoCase(ValidationContext& ctx, const FabricPreset& preset, con
     selfError = std::max(selfError, std::abs(q - 1.0));
   }
   const auto t0 = Clock::now();
-  const std::vector<glm::vec3> f = ctx.bcsdfGpu().evaluateAngles(p, requests);
+  const std::vector<glm::vec3> f = ctx.gpu<BcsdfGpu>().evaluateAngles(p, requests);
   r.gpuMilliseconds = msSince(t0);
   Worst w;
   std::string details;
@@ -436,7 +437,7 @@ CaseResult runLobesCase(ValidationContext& ctx, const FabricPreset& preset, cons
   CaseResult r = newResult(name);
   const FabricParams p = preset.params();
   const oracle::Fabric fabric = oracleFabric(preset);
-  BcsdfGpu& gpu = ctx.bcsdfGpu();
+  BcsdfGpu& gpu = ctx.gpu<BcsdfGpu>();
   BcsdfEvalMode onlyR, onlyTT;
   onlyR.lobes = BcsdfEvalMode::kLobeR;
   onlyTT.lobes = BcsdfEvalMode::kLobeTT;
@@ -529,7 +530,7 @@ CaseResult runLobesCase(ValidationContext& ctx, const FabricPreset& preset, cons
 // Eq. 5: peak on the specular cone, symmetric in (i, o), and the formula as written.
 CaseResult runSimpleLobesCase(ValidationContext& ctx, const std::string& name) {
   CaseResult r = newResult(name);
-  BcsdfGpu& gpu = ctx.bcsdfGpu();
+  BcsdfGpu& gpu = ctx.gpu<BcsdfGpu>();
   const double ks = 0.8;
   double peakOffset = 0.0, asym = 0.0, formula = 0.0, peakTolerance = 1.0;
   uint64_t bad = 0;
@@ -620,7 +621,7 @@ CaseResult runLookupCase(ValidationContext& ctx, const std::string& name) {
       thetas.push_back(float(-0.5 * kPi + kPi * unit(rng)));
       centre.push_back(false);
     }
-    const std::vector<glm::vec3> got = ctx.bcsdfGpu().lookupAmbient(table, thetas);
+    const std::vector<glm::vec3> got = ctx.gpu<BcsdfGpu>().lookupAmbient(table, thetas);
     bad += nonFinite(got);
     for (size_t i = 0; i < thetas.size(); ++i) {
       const glm::dvec3 want = oracle::lerpTable(table, double(thetas[i]));

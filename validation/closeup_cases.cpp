@@ -118,7 +118,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   r.cpuMilliseconds = msSince(t0);
   if (list.empty()) throw std::runtime_error("the close-up camera sees no segment");
 
-  FiberGpu& gpu = ctx.fiberGpu();
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
   gpu.setModel(y, s.table);
   gpu.setParams(p, view);
   gpu.setSegmentList(list);
@@ -359,7 +359,7 @@ CaseResult runStripWidthCase(ValidationContext& ctx, bool tessellation, const st
   p.boundRadius = p.coreRadius;
   const std::vector<FiberCoord> table(1, FiberCoord{0.5f, 0.0f});
 
-  FiberGpu& gpu = ctx.fiberGpu();
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
   gpu.setModel(buffers, table);
   gpu.setParams(p, makeViewParams(cam, 1.0f, false, true));
   gpu.setSegmentList({});

@@ -160,20 +160,18 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
 
   // CPU reference (cached: both GPU paths compare with the same run when their lists agree).
   const std::string cpuKey = fmt::format("cpu/{}/{}/{}", spec.preset->name, lodDistanceName(spec.lod), list.size());
-  auto& slot = ctx.cache()[cpuKey];
-  if (!slot) {
-    auto run = std::make_shared<CpuRun>();
+  const CpuRun& cpu = ctx.cached(CacheKey<CpuRun>{cpuKey}, [&] {
+    CpuRun run;
     FiberInput input{&ctx.buffers(), &ps.table, params, view};
     const auto t0 = Clock::now();
-    run->geometry = generateFibersCpu(input, ctx.cpuFrames(), list);
-    run->milliseconds = msSince(t0);
-    slot = run;
-  }
-  const CpuRun& cpu = *static_cast<CpuRun*>(slot.get());
+    run.geometry = generateFibersCpu(input, ctx.cpuFrames(), list);
+    run.milliseconds = msSince(t0);
+    return run;
+  });
   r.cpuMilliseconds = cpu.milliseconds;
 
   // GPU path.
-  FiberGpu& gpu = ctx.fiberGpu();
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
   gpu.setModel(ctx.buffers(), ps.table);
   gpu.setParams(params, view);
   gpu.setSegmentList(list);
@@ -335,7 +333,7 @@ CaseResult runFramesCase(ValidationContext& ctx, const std::string& name) {
   const auto t0 = Clock::now();
   const std::vector<FrameNormal>& cpu = ctx.cpuFrames();
   r.cpuMilliseconds = msSince(t0);
-  FiberGpu& gpu = ctx.fiberGpu();
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
   const std::vector<FiberCoord> table(1, FiberCoord{0.0f, 0.0f});
   const auto t1 = Clock::now();
   gpu.setModel(ctx.buffers(), table);

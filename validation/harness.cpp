@@ -45,8 +45,6 @@ ValidationContext::ValidationContext(HarnessOptions options) : options_(std::mov
     defines.push_back(f->define);
   }
   context_ = GlContext::create(options_.backend);
-  const GlInfo& gi = context_->info();
-  fiberGpu_ = std::make_unique<FiberGpu>(gi, defines);
   std::filesystem::create_directories(options_.reportDir / "images");
   // Last: nothing below throws, so the destructor always switches it off again.
   if (const Fault* f = options_.inject.empty() ? nullptr : findFault(options_.inject); f && f->shared)
@@ -58,27 +56,14 @@ ValidationContext::~ValidationContext() {
     setSharedFault(f->define, false);
 }
 
-KnitGpu& ValidationContext::knitGpu() {
-  if (!knitGpu_) knitGpu_ = std::make_unique<KnitGpu>(context_->info(), defines_);
-  return *knitGpu_;
-}
-
-BcsdfGpu& ValidationContext::bcsdfGpu() {
-  if (!bcsdfGpu_) bcsdfGpu_ = std::make_unique<BcsdfGpu>(context_->info(), defines_);
-  return *bcsdfGpu_;
-}
-
 const FiberSetup& ValidationContext::fiberSetup(const YarnPreset& preset) {
-  auto& slot = cache_["preset/" + preset.name];
-  if (!slot)
-    slot = std::make_shared<FiberSetup>(fitFibers(preset, yarnRadius_, yarnRadiusSource_, options_.fiber));
-  return *static_cast<FiberSetup*>(slot.get());
+  return cached(CacheKey<FiberSetup>{"preset/" + preset.name}, [&]() -> FiberSetup {
+    return fitFibers(preset, yarnRadius_, yarnRadiusSource_, options_.fiber);
+  });
 }
 
 const std::vector<FrameNormal>& ValidationContext::cpuFrames() {
-  auto& slot = cache_["frames"];
-  if (!slot) slot = std::make_shared<std::vector<FrameNormal>>(computeKnotFramesCpu(buffers_));
-  return *static_cast<std::vector<FrameNormal>*>(slot.get());
+  return cached(CacheKey<std::vector<FrameNormal>>{"frames"}, [&] { return computeKnotFramesCpu(buffers_); });
 }
 
 std::string ValidationContext::modelLabel() const {
@@ -116,11 +101,9 @@ RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
   const std::regex filter = parseFilter(options.filter);  // before any GL work
   ValidationContext ctx(options);
   std::vector<ValidationCase> cases;
-  addFiberCases(ctx, cases);  // one line per algorithm
-  addCloseupCases(ctx, cases);
-  addKnitCases(ctx, cases);
-  addBcsdfCases(ctx, cases);
-  addShadingCases(ctx, cases);
+#define FT_SUITE(Name) add##Name##Cases(ctx, cases);
+#include "validation/suites.inc"  // every validation/<alg>_cases.cpp, in file-name order
+#undef FT_SUITE
 
   RunSummary summary;
   const GlInfo& gl = ctx.gl();

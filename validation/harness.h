@@ -1,7 +1,8 @@
 // harness.h — the cross-check harness: a registry of cases, each running a
 // CPU reference and a GPU path and comparing them with named metrics against
-// tolerances declared beside the case. Adding an algorithm = one
-// `add...Cases` function and one line in harness.cpp.
+// tolerances declared beside the case. Adding an algorithm = adding its
+// validation/<alg>_cases.cpp defining add<Alg>Cases (validation/CMakeLists.txt
+// generates the suite list from the file names).
 #pragma once
 #include <filesystem>
 #include <functional>
@@ -10,11 +11,11 @@
 #include <optional>
 #include <regex>
 #include <string>
+#include <typeindex>
+#include <utility>
 #include <vector>
 
-#include "gpu/bcsdf_gpu.h"
 #include "gpu/fiber_gpu.h"
-#include "gpu/knit_gpu.h"
 #include "gpu/gl_context.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"
@@ -47,6 +48,13 @@ struct ValidationCase {
   std::function<CaseResult(ValidationContext&)> run;
 };
 
+// A key of the per-run result cache: the value's type is part of the key, so
+// a case can never read a result as another type.
+template <class T>
+struct CacheKey {
+  std::string name;
+};
+
 // Shared state of one run: GL context, GPU programs (built with the injected
 // fault), the model, cached CPU results.
 class ValidationContext {
@@ -55,12 +63,15 @@ class ValidationContext {
   ~ValidationContext();  // switches a shared fault's CPU side off again
   const HarnessOptions& options() const { return options_; }
   const GlInfo& gl() const { return context_->info(); }
-  FiberGpu& fiberGpu() { return *fiberGpu_; }
   // The injected fault's define, for other GPU programs built in a case.
   const std::vector<std::string>& defines() const { return defines_; }
-  // Built on first use, with the same injected fault.
-  KnitGpu& knitGpu();
-  BcsdfGpu& bcsdfGpu();
+  // The GPU side of an algorithm (FiberGpu, BcsdfGpu, KnitGpu, ...), built on
+  // first use with the injected fault: any class constructible from
+  // (const GlInfo&, const std::vector<std::string>& defines), one per run.
+  template <class Gpu>
+  Gpu& gpu() {
+    return cached(CacheKey<Gpu>{"gpu"}, [&] { return Gpu(context_->info(), defines_); });
+  }
   const YarnModel& model() const { return model_; }
   const YarnBuffers& buffers() const { return buffers_; }
   std::string modelLabel() const;
@@ -76,29 +87,49 @@ class ValidationContext {
   const FiberSetup& fiberSetup(const YarnPreset& preset);
   // The CPU reference's knot frames of the model, computed once.
   const std::vector<FrameNormal>& cpuFrames();
-  // Per-key cache for CPU results shared by cases (e.g. both GPU paths).
-  std::map<std::string, std::shared_ptr<void>>& cache() { return cache_; }
+  // Results shared by cases (e.g. one CPU reference for both GPU paths):
+  // make() runs on the first request of `key` and its result is kept for the
+  // run; make may return T or a type convertible to it.
+  template <class T, class Make>
+  T& cached(const CacheKey<T>& key, Make&& make) {
+    std::unique_ptr<Entry>& slot = cache_[{std::type_index(typeid(T)), key.name}];
+    if (!slot) slot = std::make_unique<Holder<T>>(std::forward<Make>(make));
+    return static_cast<Holder<T>&>(*slot).value;
+  }
+  // The value under `key` if a case has made it, else nullptr.
+  template <class T>
+  T* findCached(const CacheKey<T>& key) {
+    auto it = cache_.find({std::type_index(typeid(T)), key.name});
+    return it == cache_.end() ? nullptr : &static_cast<Holder<T>&>(*it->second).value;
+  }
 
  private:
+  struct Entry {
+    virtual ~Entry() = default;
+  };
+  template <class T>
+  struct Holder final : Entry {
+    // Built in place from make()'s result, so T need not be movable (GPU classes are not).
+    template <class Make>
+    explicit Holder(Make&& make) : value(std::forward<Make>(make)()) {}
+    T value;
+  };
+
   HarnessOptions options_;
-  std::unique_ptr<GlContext> context_;
-  std::vector<std::string> defines_;
-  std::unique_ptr<FiberGpu> fiberGpu_;
-  std::unique_ptr<KnitGpu> knitGpu_;
-  std::unique_ptr<BcsdfGpu> bcsdfGpu_;
   YarnModel model_;
   YarnBuffers buffers_;
   double yarnRadius_ = 0.0;
   std::string yarnRadiusSource_;
-  std::map<std::string, std::shared_ptr<void>> cache_;
+  std::vector<std::string> defines_;
+  std::unique_ptr<GlContext> context_;
+  // GPU objects and results, destroyed before the context (declared after it).
+  std::map<std::pair<std::type_index, std::string>, std::unique_ptr<Entry>> cache_;
 };
 
-// Case factories, one per algorithm.
-void addFiberCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
-void addCloseupCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
-void addKnitCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
-void addBcsdfCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
-void addShadingCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+// Case factories, one per validation/<alg>_cases.cpp (the generated list).
+#define FT_SUITE(Name) void add##Name##Cases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+#include "validation/suites.inc"
+#undef FT_SUITE
 
 struct RunSummary {
   std::vector<CaseResult> results;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "gpu/gpu_timer.h"
+#include "gpu/knit_gpu.h"
 #include "scene/camera.h"
 #include "scene/yarn_preset.h"
 #include "knit/knit_problem.h"
@@ -88,22 +89,20 @@ struct Solved {
 };
 
 const Solved& solved(ValidationContext& ctx, const Scenario& sc) {
-  auto& slot = ctx.cache()["knit/" + sc.name];
-  if (!slot) {
-    auto s = std::make_shared<Solved>();
+  return ctx.cached(CacheKey<Solved>{"knit/" + sc.name}, [&] {
+    Solved s;
     const StitchMesh rest = sc.pattern == Pattern::Ribbing ? makeRibbing1x1(kRows, kCols)
                             : sc.pattern == Pattern::Lace  ? makeLacePatch(kRows, kCols)
                                                            : makeStockinette(kRows, kCols);
     KnitOptions o;
     o.beta = sc.beta;
-    s->setup = buildKnitSetup(rest, deform(rest, sc.deformation), o);
+    s.setup = buildKnitSetup(rest, deform(rest, sc.deformation), o);
     const auto t0 = Clock::now();
-    s->cpu = solveKnitCpu(s->setup);
-    s->cpuMs = msSince(t0);
-    s->naive = liftKnitPoints(s->setup, initialKnitPoints(s->setup));
-    slot = s;
-  }
-  return *static_cast<Solved*>(slot.get());
+    s.cpu = solveKnitCpu(s.setup);
+    s.cpuMs = msSince(t0);
+    s.naive = liftKnitPoints(s.setup, initialKnitPoints(s.setup));
+    return s;
+  });
 }
 
 struct GpuRun {
@@ -114,7 +113,7 @@ struct GpuRun {
 };
 
 GpuRun runGpu(ValidationContext& ctx, const KnitSetup& s) {
-  KnitGpu& gpu = ctx.knitGpu();
+  KnitGpu& gpu = ctx.gpu<KnitGpu>();
   gpu.setStitches(knitGpuRecords(s), knitSolveParams(s));
   gpu.setYarnList(knitYarnList(s));
   gpu.run();  // untimed: llvmpipe compiles a shader on its first dispatch
@@ -137,17 +136,15 @@ std::string knitThumbnail(ValidationContext& ctx, const YarnModel& model, const 
     std::unique_ptr<FiberGpu> gpu;
     FiberSetup fibers;
   };
-  auto& slot = ctx.cache()["knit/thumbnail-renderer"];
-  if (!slot) {
-    auto r = std::make_shared<Renderer>();
+  Renderer& r = ctx.cached(CacheKey<Renderer>{"knit/thumbnail-renderer"}, [&] {
+    Renderer made;
     const YarnPreset& preset = findYarnPreset("cotton1");
     FiberOptions fo;  // default fibers, the run's seed
     fo.seed = ctx.options().fiber.seed;
-    r->fibers = makeFiberSetup(preset, fo);
-    r->gpu = std::make_unique<FiberGpu>(ctx.gl());
-    slot = r;
-  }
-  Renderer& r = *static_cast<Renderer*>(slot.get());
+    made.fibers = makeFiberSetup(preset, fo);
+    made.gpu = std::make_unique<FiberGpu>(ctx.gl());
+    return made;
+  });
   const HarnessOptions& o = ctx.options();
   r.gpu->setModel(buildYarnBuffers(model), r.fibers.table);
   r.gpu->setParams(r.fibers.params, makeViewParams(frameModel(model, glm::vec3(0.15f, -0.35f, 1.0f), o.imageWidth,

@@ -78,18 +78,16 @@ const YarnPreset& shadingPreset(ValidationContext& ctx) {
 // The CPU reference's fibers at the case's view, as an Embree scene: built
 // once per run and shared by every shading case.
 GroundTruthInputs& groundTruthInputs(ValidationContext& ctx) {
-  auto& slot = ctx.cache()["shading/ground-truth-scene"];
-  if (!slot) {
-    auto in = std::make_shared<GroundTruthInputs>();
-    in->setup = &ctx.fiberSetup(shadingPreset(ctx));
-    in->camera = closeupCamera(ctx.model(), kWidth, kHeight);
-    in->view = makeViewParams(in->camera, ctx.options().lodThresholdPx, true, true);
-    const FiberInput input{&ctx.buffers(), &in->setup->table, in->setup->params, in->view};
+  return ctx.cached(CacheKey<GroundTruthInputs>{"shading/ground-truth-scene"}, [&] {
+    GroundTruthInputs in;
+    in.setup = &ctx.fiberSetup(shadingPreset(ctx));
+    in.camera = closeupCamera(ctx.model(), kWidth, kHeight);
+    in.view = makeViewParams(in.camera, ctx.options().lodThresholdPx, true, true);
+    const FiberInput input{&ctx.buffers(), &in.setup->table, in.setup->params, in.view};
     const FiberGeometry geometry = generateFibersCpu(input, ctx.cpuFrames());
-    in->scene = std::make_unique<FiberTraceScene>(geometry, in->setup->params);
-    slot = in;
-  }
-  return *std::static_pointer_cast<GroundTruthInputs>(slot);
+    in.scene = std::make_unique<FiberTraceScene>(geometry, in.setup->params);
+    return in;
+  });
 }
 
 Lighting caseLighting(const std::string& fabric) {
@@ -127,11 +125,11 @@ RgbaImage toRgba(const ImageRgbaF& img) { return RgbaImage{img.width, img.height
 RgbaImage flipImage(const FlipResult& f) { return RgbaImage{f.width, f.height, magmaRgba8(f.errorMap)}; }
 
 ImageRgbaF renderGpu(ValidationContext& ctx, const GroundTruthInputs& in, const ShadingParams& s, bool tessellation) {
-  FiberGpu& gpu = ctx.fiberGpu();
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
   gpu.setModel(ctx.buffers(), in.setup->table);
   gpu.setParams(in.setup->params, in.view);
   gpu.setSegmentList({});
-  gpu.setShading(s, ctx.bcsdfGpu().bakeAmbientTable(s.fabric));
+  gpu.setShading(s, ctx.gpu<BcsdfGpu>().bakeAmbientTable(s.fabric));
   return tessellation ? gpu.renderTessellationShaded(kWidth, kHeight) : gpu.renderComputeShaded(kWidth, kHeight);
 }
 
@@ -169,7 +167,7 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tes
   // samples decide coverage on both sides, and the GPU shades once per pixel
   // per fiber where the truth shades each sample.
   TraceOptions samples;
-  samples.samplePositions = ctx.fiberGpu().shadedSamplePositions();
+  samples.samplePositions = ctx.gpu<FiberGpu>().shadedSamplePositions();
   samples.samplesPerPixel = static_cast<int>(samples.samplePositions.size());
   samples.shadows = false;
   const TraceResult truth = traceFibers(*in.scene, in.camera, s, table, samples);
@@ -313,11 +311,11 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
 
   const Lighting lighting = caseLighting(fabric);
   const ShadingParams s = makeShadingParams(lighting);
-  FiberGpu& gpu = ctx.fiberGpu();
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
   gpu.setModel(buffers, table);
   gpu.setParams(p, makeViewParams(cam, 1.0f, false, true));
   gpu.setSegmentList({});
-  gpu.setShading(s, ctx.bcsdfGpu().bakeAmbientTable(s.fabric));
+  gpu.setShading(s, ctx.gpu<BcsdfGpu>().bakeAmbientTable(s.fabric));
   const auto t0 = Clock::now();
   const ImageRgbaF img = tessellation ? gpu.renderTessellationShaded(cam.width, cam.height)
                                       : gpu.renderComputeShaded(cam.width, cam.height);

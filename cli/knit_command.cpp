@@ -1,4 +1,4 @@
-#include "validation/knit_command.h"
+#include "cli/knit_command.h"
 
 #include "validation/draw_check.h"
 

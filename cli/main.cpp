@@ -19,12 +19,12 @@
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_radius.h"
 #include "validation/build_info.h"
-#include "validation/compare_command.h"
+#include "cli/compare_command.h"
 #include "validation/draw_check.h"
 #include "validation/faults.h"
 #include "validation/harness.h"
-#include "validation/knit_command.h"
-#include "validation/render_command.h"
+#include "cli/knit_command.h"
+#include "cli/render_command.h"
 #include "validation/report.h"
 
 namespace {

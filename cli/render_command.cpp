@@ -1,4 +1,4 @@
-#include "validation/render_command.h"
+#include "cli/render_command.h"
 
 #include <chrono>
 #include <cmath>

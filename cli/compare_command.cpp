@@ -1,4 +1,4 @@
-#include "validation/compare_command.h"
+#include "cli/compare_command.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
