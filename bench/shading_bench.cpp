@@ -23,6 +23,8 @@
 
 #include "bench/bench_flags.h"
 #include "gpu/fiber_gpu.h"
+#include "gpu/fiber_renderer.h"
+#include "gpu/shading_inputs_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/gpu_timer.h"
 #include "scene/bcc_reader.h"
@@ -30,7 +32,6 @@
 #include "scene/input_error.h"
 #include "scene/lighting.h"
 #include "scene/yarn_radius.h"
-#include "gpu/bcsdf_gpu.h"
 
 #ifndef FT_SOURCE_DIR
 #define FT_SOURCE_DIR "."
@@ -46,29 +47,30 @@ struct Setup {
   std::vector<std::pair<std::string, ft::ViewParams>> views;
   std::unique_ptr<ft::GlContext> gl;
   std::unique_ptr<ft::FiberGpu> gpu;
+  std::unique_ptr<ft::FiberRenderer> renderer;
   std::unique_ptr<ft::GpuTimer> timer;
 };
 Setup* g = nullptr;
 
-void BM_Shaded(benchmark::State& state, ft::FiberGpu::Path path, const ft::ViewParams* view) {
+void BM_Shaded(benchmark::State& state, ft::FiberPath path, const ft::ViewParams* view) {
   g->gpu->setParams(g->fibers.params, *view);
-  g->gpu->drawShaded(path, g->width, g->height);  // warm-up: shader variants, buffer sizes, the target
+  g->renderer->draw(*g->gpu, path, g->width, g->height);  // warm-up: shader variants, buffer sizes, the target
   glFinish();
   for (auto _ : state) {
     g->timer->begin();
-    g->gpu->drawShaded(path, g->width, g->height);
+    g->renderer->draw(*g->gpu, path, g->width, g->height);
     state.SetIterationTime(g->timer->endMs() * 1e-3);
   }
-  if (path == ft::FiberGpu::Path::Compute) state.counters["vertices"] = g->gpu->readDrawCommand().vertexTotal;
+  if (path == ft::FiberPath::Compute) state.counters["vertices"] = g->gpu->readDrawCommand().vertexTotal;
 }
 
 void BM_Preview(benchmark::State& state, const ft::ViewParams* view) {
   g->gpu->setParams(g->fibers.params, *view);
   const ft::RenderStyle style;
-  g->gpu->renderCompute(g->width, g->height, style);
+  g->renderer->preview(*g->gpu, ft::FiberPath::Compute, g->width, g->height, style);
   for (auto _ : state) {
     g->timer->begin();
-    benchmark::DoNotOptimize(g->gpu->renderCompute(g->width, g->height, style));  // includes an RGBA8 read-back
+    benchmark::DoNotOptimize(g->renderer->preview(*g->gpu, ft::FiberPath::Compute, g->width, g->height, style));  // includes an RGBA8 read-back
     state.SetIterationTime(g->timer->endMs() * 1e-3);
   }
 }
@@ -100,7 +102,8 @@ int main(int argc, char** argv) {
     const ft::GlInfo& gi = setup.gl->info();
     setup.gpu = std::make_unique<ft::FiberGpu>(gi);
     setup.gpu->setModel(setup.buffers, setup.fibers.table);
-    setup.gpu->setShading(shading, ft::BcsdfGpu(gi).bakeAmbientTable(shading.fabric));
+    setup.renderer = std::make_unique<ft::FiberRenderer>(gi);
+    setup.renderer->setShading(ft::ShadingBakeGpu(gi).bake(shading));
     setup.timer = std::make_unique<ft::GpuTimer>(gi);
 
     benchmark::AddCustomContext("gl_renderer", gi.renderer);
@@ -118,11 +121,11 @@ int main(int argc, char** argv) {
 
     for (const auto& [name, view] : setup.views) {
       benchmark::RegisterBenchmark(fmt::format("BM_ShadedCompute/{}", name).c_str(), BM_Shaded,
-                                   ft::FiberGpu::Path::Compute, &view)
+                                   ft::FiberPath::Compute, &view)
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();
       benchmark::RegisterBenchmark(fmt::format("BM_ShadedTessellation/{}", name).c_str(), BM_Shaded,
-                                   ft::FiberGpu::Path::Tessellation, &view)
+                                   ft::FiberPath::Tessellation, &view)
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();
       benchmark::RegisterBenchmark(fmt::format("BM_PreviewCompute/{}", name).c_str(), BM_Preview, &view)

@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "gpu/fiber_gpu.h"
+#include "gpu/fiber_renderer.h"
 #include "gpu/knit_gpu.h"
 #include "reference/knit_reference.h"
 #include "scene/bcc_reader.h"
@@ -88,6 +89,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   std::unique_ptr<GlContext> context;
   std::unique_ptr<KnitGpu> knitGpu;
   std::unique_ptr<FiberGpu> fiberGpu;
+  std::unique_ptr<FiberRenderer> renderer;
   const bool needGl = o.solver == "gpu" || !o.image.empty();
   if (needGl) context = GlContext::create(o.backend);
   if (o.solver == "gpu") knitGpu = std::make_unique<KnitGpu>(context->info());
@@ -100,6 +102,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
     log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fitted.fit.scale,
                        fitted.fit.radius, fitted.fit.source);
     fiberGpu = std::make_unique<FiberGpu>(context->info());
+    renderer = std::make_unique<FiberRenderer>(context->info());
     // Fibers follow the yarn material: every frame keeps the rest state's
     // length coordinates, so twist and flyaways stretch with the yarn instead
     // of sliding along it.
@@ -161,7 +164,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
       RenderStyle style;
       style.lightDir = glm::normalize(glm::vec3(0.3f, 0.6f, 0.8f));
       const auto t2 = std::chrono::steady_clock::now();
-      const RgbaImage image = fiberGpu->renderCompute(o.width, o.height, style);
+      const RgbaImage image = renderer->preview(*fiberGpu, FiberPath::Compute, o.width, o.height, style);
       const std::filesystem::path imagePath = sequence ? frameFileName(o.image, int(fi)) : o.image;
       writePng(imagePath, image);
       log << fmt::format("{}: {}x{}, yarn {}, fiber compute path, {:.0f} ms on {}\n", imagePath.string(), o.width,

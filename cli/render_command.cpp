@@ -11,7 +11,9 @@
 #include <mutex>
 
 #include "gpu/fiber_gpu.h"
-#include "reference/bcsdf_tables.h"
+#include "gpu/fiber_renderer.h"
+#include "gpu/shading_inputs_gpu.h"
+#include "reference/shading_inputs.h"
 #include "reference/fiber_reference.h"
 #include "reference/fiber_trace.h"
 #include "scene/bcc_reader.h"
@@ -20,7 +22,6 @@
 #include "validation/draw_check.h"
 #include "validation/faults.h"
 #include "validation/report.h"
-#include "gpu/bcsdf_gpu.h"
 
 namespace ft {
 
@@ -90,6 +91,8 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
     if (f->shared) setSharedFault(f->define, true);
   }
   FiberGpu gpu(g, defines);
+  FiberRenderer renderer(g, defines);
+  const FiberPath path = o.path == "compute" ? FiberPath::Compute : FiberPath::Tessellation;
   gpu.setModel(v.buffers, v.fibers.table);
   checkBeforeDrawing(v.model.name, v.buffers, gpu.readFrames());  // no partial image from NaN frames
   gpu.setParams(v.fibers.params, viewParamsOf(v));
@@ -98,7 +101,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
   if (o.preview) {
     RenderStyle style;
     style.lightDir = glm::vec3(v.shading.lightDirection[0]);
-    const RgbaImage img = o.path == "compute" ? gpu.renderCompute(w, h, style) : gpu.renderTessellation(w, h, style);
+    const RgbaImage img = renderer.preview(gpu, path, w, h, style);
     std::filesystem::path png = o.view.out;
     png.replace_extension(".png");
     writePng(png, img);
@@ -106,9 +109,8 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                        v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * secondsSince(t0), g.renderer);
     return 0;
   }
-  const std::vector<glm::vec3> table = BcsdfGpu(g, defines).bakeAmbientTable(v.shading.fabric);
-  gpu.setShading(v.shading, table);
-  const ImageRgbaF img = o.path == "compute" ? gpu.renderComputeShaded(w, h) : gpu.renderTessellationShaded(w, h);
+  renderer.setShading(ShadingBakeGpu(g, defines).bake(v.shading));
+  const ImageRgbaF img = renderer.render(gpu, path, w, h);
   const double seconds = secondsSince(t0);
   if (const size_t bad = nonFiniteValues(img))
     throw std::runtime_error(fmt::format("the {} path produced {} non-finite pixel values; no image written", o.path, bad));
@@ -131,7 +133,7 @@ int runTraceCommand(const TraceCommandOptions& o, std::ostream& log) {
   const double buildSeconds = secondsSince(t0);
   log << fmt::format("{} fiber segments of {} fibers as Embree round curves, {:.1f} MiB, built in {:.1f} s\n",
                      scene.segmentCount(), scene.fiberCount(), scene.bytes() / 1048576.0, buildSeconds);
-  const std::vector<glm::vec3> table = bakeAmbientTableCpu(v.shading.fabric);
+  const std::vector<glm::vec3> table = bakeShadingInputsCpu(v.shading).ambientTable;
   TraceOptions t;
   t.samplesPerPixel = o.samplesPerPixel;
   t.shadows = o.shadows;

@@ -9,7 +9,6 @@
 #define FT_UBO_VIEW_PARAMS 1
 #define FT_UBO_DISPATCH 2
 #define FT_UBO_KNIT_PARAMS 3
-#define FT_UBO_SHADING 4
 
 // Shader-storage bindings (std430).
 #define FT_SSBO_CONTROL_POINTS 0
@@ -33,9 +32,15 @@
 #define FT_SSBO_KNIT_YARN_LIST 18
 #define FT_SSBO_KNIT_VERTICES 19
 #define FT_SSBO_FRAME_CARRY 20
-#define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/fiber_shading.h)
 #define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
+
+// Shading inputs (scene/shading_inputs.h): everything a shaded frame reads
+// besides the fibers, bound together by gpu/fiber_renderer.cpp. A new
+// precomputed input takes its slot here.
+#define FT_UBO_SHADING 4           // ShadingParams (common/fiber_shading.h)
+#define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/bcsdf.h)
+
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u

@@ -66,14 +66,6 @@ FiberGpu::FiberGpu(const GlInfo& gl, std::vector<std::string> defines)
   const std::vector<std::string> tess = {"shaders/fiber_tess.vert.glsl", "shaders/fiber_tess.tesc.glsl",
                                          "shaders/fiber_tess.tese.glsl"};
   tessCaptureProgram_ = Program(buildProgram(tess, defines_, {"fiberPosition", "fiberId"}));
-  std::vector<std::string> tessDraw = tess;
-  tessDraw.push_back("shaders/fiber_strip.geom.glsl");
-  tessDraw.push_back("shaders/fiber_strip.frag.glsl");
-  std::vector<std::string> drawDefines = defines_;
-  drawDefines.push_back("FT_STRIP_TANGENTS");  // the evaluation stage also gives the strip tangent
-  tessDrawProgram_ = Program(buildProgram(tessDraw, drawDefines));
-  stripDrawProgram_ = Program(buildProgram(
-      {"shaders/fiber_strip.vert.glsl", "shaders/fiber_strip.geom.glsl", "shaders/fiber_strip.frag.glsl"}, defines_));
   vao_ = VertexArray::create();
   captureFbo_ = Framebuffer::create();
   glNamedFramebufferParameteri(captureFbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, 1);
@@ -347,116 +339,25 @@ size_t FiberGpu::captureTessellation() {
 
 std::vector<FiberVertex> FiberGpu::readTessellationLines() const { return readBack<FiberVertex>(xfb_.id(), 2 * xfbLines_); }
 
-// A 4× multisampled colour + depth target and its single-sampled resolve.
-struct MultisampleTarget {
-  Framebuffer ms = Framebuffer::create(), resolve = Framebuffer::create();
-  Renderbuffer msColor = Renderbuffer::create(), depth = Renderbuffer::create(), resolveColor = Renderbuffer::create();
-  int width, height;
-
-  MultisampleTarget(int w, int h, GLenum colorFormat) : width(w), height(h) {
-    glNamedRenderbufferStorageMultisample(msColor.id(), 4, colorFormat, w, h);
-    glNamedRenderbufferStorageMultisample(depth.id(), 4, GL_DEPTH_COMPONENT24, w, h);
-    glNamedRenderbufferStorage(resolveColor.id(), colorFormat, w, h);
-    glNamedFramebufferRenderbuffer(ms.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColor.id());
-    glNamedFramebufferRenderbuffer(ms.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.id());
-    glNamedFramebufferRenderbuffer(resolve.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor.id());
-  }
-  void begin(glm::vec4 clear) const {
-    glBindFramebuffer(GL_FRAMEBUFFER, ms.id());
-    glViewport(0, 0, width, height);
-    glEnable(GL_DEPTH_TEST);
-    glClearColor(clear.x, clear.y, clear.z, clear.w);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  }
-  // Resolves and reads the colour back with row 0 at the top (GL's is the bottom).
-  template <class T>
-  std::vector<T> end(GLenum type) const {
-    glBlitNamedFramebuffer(ms.id(), resolve.id(), 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
-                           GL_NEAREST);
-    const size_t row = static_cast<size_t>(width) * 4;
-    std::vector<T> rows(row * height), out(row * height);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve.id());
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width, height, GL_RGBA, type, rows.data());
-    for (int y = 0; y < height; ++y)
-      std::copy_n(rows.data() + static_cast<size_t>(height - 1 - y) * row, row, out.data() + static_cast<size_t>(y) * row);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDisable(GL_DEPTH_TEST);
-    return out;
-  }
-};
-
 FiberGpu::~FiberGpu() = default;
 
-template <class Draw>
-RgbaImage FiberGpu::renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw) {
-  const MultisampleTarget target(width, height, GL_RGBA8);
-  target.begin(glm::vec4(style.background, 1.0f));
-  bindCommon();
-  glUseProgram(program);
-  setUint(program, "shaded", 0u);
-  glProgramUniform3f(program, glGetUniformLocation(program, "lightDir"), style.lightDir.x, style.lightDir.y,
-                     style.lightDir.z);
-  glProgramUniform3f(program, glGetUniformLocation(program, "baseColor"), style.baseColor.x, style.baseColor.y,
-                     style.baseColor.z);
-  glBindVertexArray(vao_.id());
-  draw();
-  return RgbaImage{width, height, target.end<uint8_t>(GL_UNSIGNED_BYTE)};
+FiberDrawStages FiberGpu::drawStages(FiberPath path) const {
+  if (path == FiberPath::Compute) return {{"shaders/fiber_strip.vert.glsl"}, {}};
+  // The evaluation stage also gives the strip tangent when it feeds a draw.
+  return {{"shaders/fiber_tess.vert.glsl", "shaders/fiber_tess.tesc.glsl", "shaders/fiber_tess.tese.glsl"},
+          {"FT_STRIP_TANGENTS"}};
 }
 
-void FiberGpu::drawShaded(Path path, int width, int height) {
-  if (!ambientTable_) throw std::logic_error("FiberGpu: setShading() before a shaded render");
-  const GLuint program = path == Path::Compute ? stripDrawProgram_.id() : tessDrawProgram_.id();
-  if (path == Path::Compute) generateCompute();
-  // 32-bit float: the ground-truth comparison needs more than half's 11 bits.
-  if (!shadedTarget_ || shadedTarget_->width != width || shadedTarget_->height != height)
-    shadedTarget_ = std::make_unique<MultisampleTarget>(width, height, GL_RGBA32F);
-  shadedTarget_->begin(glm::vec4(glm::vec3(shading_.background), 0.0f));
+void FiberGpu::prepareDraw(FiberPath path) {
+  if (path == FiberPath::Compute) generateCompute();
   bindCommon();
-  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING, shadingUbo_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
-  glUseProgram(program);
-  setUint(program, "shaded", 1u);
   glBindVertexArray(vao_.id());
-  if (path == Path::Compute) drawCompute(program);
+}
+
+void FiberGpu::draw(FiberPath path, GLuint program) {
+  glUseProgram(program);
+  if (path == FiberPath::Compute) drawCompute(program);
   else drawTessellation(program);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDisable(GL_DEPTH_TEST);
-}
-
-std::vector<glm::vec2> FiberGpu::shadedSamplePositions() const {
-  if (!shadedTarget_) throw std::logic_error("FiberGpu: shadedSamplePositions() before drawShaded()");
-  glBindFramebuffer(GL_FRAMEBUFFER, shadedTarget_->ms.id());
-  GLint samples = 0;
-  glGetIntegerv(GL_SAMPLES, &samples);
-  std::vector<glm::vec2> out;
-  for (GLint i = 0; i < samples; ++i) {
-    GLfloat p[2] = {0.5f, 0.5f};
-    glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(i), p);
-    out.emplace_back(p[0], 1.0f - p[1]);  // GL's pixel y points up
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  return out;
-}
-
-ImageRgbaF FiberGpu::readShaded() const {
-  if (!shadedTarget_) throw std::logic_error("FiberGpu: readShaded() before drawShaded()");
-  ImageRgbaF img;
-  img.width = shadedTarget_->width;
-  img.height = shadedTarget_->height;
-  img.pixels = shadedTarget_->end<float>(GL_FLOAT);
-  return img;
-}
-
-void FiberGpu::setShading(const ShadingParams& shading, std::span<const glm::vec3> ambientTable) {
-  if (ambientTable.size() != FT_AMBIENT_TABLE_SIZE)
-    throw std::invalid_argument(fmt::format("ambient table: {} texels, expected {}", ambientTable.size(),
-                                            FT_AMBIENT_TABLE_SIZE));
-  shading_ = shading;
-  replaceBuffer(shadingUbo_, sizeof(ShadingParams), &shading);
-  std::vector<glm::vec4> texels;
-  for (const glm::vec3& a : ambientTable) texels.emplace_back(a, 0.0f);
-  replaceBuffer(ambientTable_, texels.size() * sizeof(glm::vec4), texels.data());
 }
 
 void FiberGpu::drawCompute(GLuint program) {
@@ -478,27 +379,8 @@ void FiberGpu::drawTessellation(GLuint program) {
   glDrawArraysInstanced(GL_PATCHES, 0, static_cast<GLsizei>(4 * listCount_), instances);
 }
 
-RgbaImage FiberGpu::renderCompute(int width, int height, const RenderStyle& style) {
-  generateCompute();
-  return renderWith(width, height, style, stripDrawProgram_.id(), [&] { drawCompute(stripDrawProgram_.id()); });
-}
-
-RgbaImage FiberGpu::renderTessellation(int width, int height, const RenderStyle& style) {
-  return renderWith(width, height, style, tessDrawProgram_.id(), [&] { drawTessellation(tessDrawProgram_.id()); });
-}
-
-ImageRgbaF FiberGpu::renderComputeShaded(int width, int height) {
-  drawShaded(Path::Compute, width, height);
-  return readShaded();
-}
-
-ImageRgbaF FiberGpu::renderTessellationShaded(int width, int height) {
-  drawShaded(Path::Tessellation, width, height);
-  return readShaded();
-}
-
-RgbaImage FiberGpu::renderVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions,
-                                   int width, int height, const RenderStyle& style) {
+void FiberGpu::drawVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions,
+                            GLuint program) {
   // Rebuild the strip indices of a canonical-order stream on the host.
   std::vector<uint32_t> indices;
   size_t base = 0;
@@ -511,19 +393,20 @@ RgbaImage FiberGpu::renderVertices(std::span<const FiberVertex> vertices, std::s
     }
   }
   if (base != vertices.size())
-    throw std::runtime_error(fmt::format("renderVertices: decisions describe {} vertices, stream has {}", base,
+    throw std::runtime_error(fmt::format("drawVertices: decisions describe {} vertices, stream has {}", base,
                                          vertices.size()));
   const Buffer vbo = makeBuffer(vertices.size_bytes(), vertices.data());
   const Buffer ibo = makeBuffer(indices.size() * sizeof(uint32_t), indices.data());
-  RgbaImage img = renderWith(width, height, style, stripDrawProgram_.id(), [&] {
-    setUint(stripDrawProgram_.id(), "vertexTotal", static_cast<uint32_t>(vertices.size()));
-    vbo.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES);
-    glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo.id());
-    glDrawElements(GL_LINE_STRIP, static_cast<GLsizei>(indices.size()), GL_UNSIGNED_INT, nullptr);
-    glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-  });
-  return img;
+  bindCommon();
+  glBindVertexArray(vao_.id());
+  glUseProgram(program);
+  setUint(program, "vertexTotal", static_cast<uint32_t>(vertices.size()));
+  vbo.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES);
+  glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo.id());
+  glDrawElements(GL_LINE_STRIP, static_cast<GLsizei>(indices.size()), GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  if (vertices_) vertices_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES);  // the compute path's again
 }
 
 }  // namespace ft

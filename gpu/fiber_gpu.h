@@ -8,6 +8,7 @@
 //     + index buffer and an indirect draw command; LoD and culling decided on
 //     the GPU.
 // Both can hand their vertices back (transform feedback / buffer read-back).
+// Drawing them (targets, shading) is gpu/fiber_renderer.h's.
 #pragma once
 #include <epoxy/gl.h>
 
@@ -17,28 +18,26 @@
 #include <string>
 #include <vector>
 
-#include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_objects.h"
-#include "image/image.h"
 #include "scene/fiber_input.h"
 
 namespace ft {
 
-struct RgbaImage {
-  int width = 0;
-  int height = 0;
-  std::vector<uint8_t> pixels;  // RGBA8, row 0 at the top
-};
+// The two ways the GPU makes fiber geometry (000 §5): compute kernels that
+// write a vertex + index buffer drawn with an indirect draw, or tessellation
+// stages that evaluate the fibers while they are drawn.
+enum class FiberPath { Compute, Tessellation };
 
-struct RenderStyle {
-  glm::vec3 baseColor{0.85f, 0.78f, 0.62f};
-  glm::vec3 background{0.08f, 0.08f, 0.1f};
-  glm::vec3 lightDir{0.3f, 0.8f, 0.5f};
+// The stages of a draw program that bring a path's fibers to the geometry
+// stage (gpu/fiber_renderer.h appends the strip geometry and fragment stages).
+struct FiberDrawStages {
+  std::vector<std::string> files;
+  std::vector<std::string> defines;
 };
 
 class FiberGpu {
@@ -80,28 +79,17 @@ class FiberGpu {
   // on llvmpipe, see kLlvmpipeMaxPatchVertices in fiber_gpu.cpp).
   uint32_t linesPerPatch() const;
 
-  // Images: the compute path's own buffers, the tessellation path, or an
-  // arbitrary vertex stream in canonical strip order (e.g. the CPU's).
-  RgbaImage renderCompute(int width, int height, const RenderStyle& style);
-  RgbaImage renderTessellation(int width, int height, const RenderStyle& style);
-  RgbaImage renderVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions,
-                           int width, int height, const RenderStyle& style);
-
-  // Shaded images (000 §4.3, common/fiber_shading.h): linear HDR radiance,
-  // alpha = the fraction of the pixel the fibers cover (4× multisampling,
-  // shading once per pixel per fiber). `ambientTable` holds A(θ_o) at the
-  // FT_AMBIENT_TABLE_SIZE texel centres (bcsdf.h).
-  void setShading(const ShadingParams& shading, std::span<const glm::vec3> ambientTable);
-  ImageRgbaF renderComputeShaded(int width, int height);
-  ImageRgbaF renderTessellationShaded(int width, int height);
-  // One shaded frame into a kept target, without the read-back: what a frame
-  // costs (the benches time this); readShaded() then returns it.
-  enum class Path { Compute, Tessellation };
-  void drawShaded(Path path, int width, int height);
-  ImageRgbaF readShaded() const;
-  // The shaded target's multisample positions in the pixel ([0, 1]², y down
-  // as the read-back image), as GL reports them (after a drawShaded()).
-  std::vector<glm::vec2> shadedSamplePositions() const;
+  // For a renderer: the vertex (and tessellation) stages of `path`'s draw
+  // program; the buffers and uniforms they read, bound; the draw of the fibers
+  // with `program` (built from drawStages(path) + the renderer's stages).
+  // Compute: generateCompute() first (prepareDraw does it).
+  FiberDrawStages drawStages(FiberPath path) const;
+  void prepareDraw(FiberPath path);
+  void draw(FiberPath path, GLuint program);
+  // An arbitrary vertex stream in canonical strip order (e.g. the CPU's) in
+  // place of the compute path's buffers: the same draw as FiberPath::Compute.
+  void drawVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions, GLuint program);
+  const YarnParams& params() const { return params_; }
 
  private:
   void decideAndScan();  // passes 1-2: decisions, offsets and totals of the listed segments
@@ -109,8 +97,6 @@ class FiberGpu {
   // A flattened dispatch of `items` invocations in groups of `groupSize` (x, then y rows).
   void dispatchFlat(GLuint program, size_t items, size_t groupSize, const char* what);
   void bindCommon() const;
-  template <class Draw>
-  RgbaImage renderWith(int width, int height, const RenderStyle& style, GLuint program, Draw&& draw);
   void drawCompute(GLuint program);
   void drawTessellation(GLuint program);
 
@@ -121,12 +107,10 @@ class FiberGpu {
   int maxGroupsY_ = 65535;
   int maxGroupsZ_ = 65535;
   Program framesProgram_, decideProgram_, ownersProgram_, samplesProgram_, scanProgram_, generateProgram_;
-  Program tessCaptureProgram_, tessDrawProgram_, stripDrawProgram_;
+  Program tessCaptureProgram_;
   VertexArray vao_;
   Framebuffer captureFbo_;  // attachment-less: surfaceless contexts have no default framebuffer
-  Buffer yarnUbo_, viewUbo_, shadingUbo_, ambientTable_;
-  ShadingParams shading_{};
-  std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
+  Buffer yarnUbo_, viewUbo_;
   Buffer points_, curves_, segments_, frames_, table_, list_;
   Buffer frameCarry_;  // per curve: the normal carried between frame chunks, the holonomy
   Buffer decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_;

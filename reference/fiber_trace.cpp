@@ -122,7 +122,7 @@ bool countEmbreeBytes(void* user, ssize_t bytes, bool /*post*/) {
 }
 
 // Calls line(first vertex, strip index) for every drawn line of the stream,
-// strip by strip as gpu/fiber_gpu.cpp renderVertices cuts it.
+// strip by strip as gpu/fiber_gpu.cpp drawVertices cuts it.
 template <class F>
 void forEachLine(const FiberGeometry& g, const YarnParams& params, F&& line) {
   size_t base = 0, strip = 0;

@@ -1,6 +1,6 @@
 // fiber_trace.h — the Embree 3 fiber ray tracer: the image-level ground truth
 // of the shaded GPU render (docs/ground-truth.md). It traces the very fiber
-// lines the GPU draws as strips (gpu/fiber_gpu.cpp renderVertices,
+// lines the GPU draws as strips (gpu/fiber_gpu.cpp drawVertices,
 // fiber_strip.geom.glsl) as round tubes of radius position.w, through the
 // GPU's pinhole camera, and shades them with common/fiber_shading.h
 // (000 §4.3; notes-rendering §0.2, A4).

@@ -55,7 +55,7 @@ struct Strip {
 };
 
 // One yarn segment per strip, one ply without regular fibers: each decision
-// holds exactly one strip (the cut of gpu/fiber_gpu.cpp renderVertices).
+// holds exactly one strip (the cut of gpu/fiber_gpu.cpp drawVertices).
 FiberGeometry makeGeometry(const std::vector<Strip>& strips) {
   FiberGeometry g;
   for (uint32_t s = 0; s < strips.size(); ++s) {

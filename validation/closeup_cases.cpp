@@ -18,6 +18,7 @@
 #include "common/lod.h"
 #include "reference/fiber_reference.h"
 #include "scene/camera.h"
+#include "gpu/fiber_renderer.h"
 #include "validation/harness.h"
 #include "validation/vertex_compare.h"
 
@@ -310,8 +311,8 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   r.details = firstNonFinite.empty() ? worst : firstNonFinite + "\n" + worst;
   r.finish();
   if (o.images && (!r.pass || &preset == ctx.presets().front())) {
-    RgbaImage img = tessellation ? gpu.renderTessellation(o.imageWidth * 2, o.imageHeight * 2, RenderStyle{})
-                                 : gpu.renderCompute(o.imageWidth * 2, o.imageHeight * 2, RenderStyle{});
+    RgbaImage img = ctx.gpu<FiberRenderer>().preview(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute,
+                                                     o.imageWidth * 2, o.imageHeight * 2);
     r.images.push_back(ctx.saveImage(img, name));
   }
   return r;
@@ -364,9 +365,9 @@ CaseResult runStripWidthCase(ValidationContext& ctx, bool tessellation, const st
   gpu.setParams(p, makeViewParams(cam, 1.0f, false, true));
   gpu.setSegmentList({});
   const auto t0 = Clock::now();
-  RenderStyle style;
-  const RgbaImage img = tessellation ? gpu.renderTessellation(cam.width, cam.height, style)
-                                     : gpu.renderCompute(cam.width, cam.height, style);
+  const RenderStyle style;
+  const RgbaImage img = ctx.gpu<FiberRenderer>().preview(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute,
+                                                         cam.width, cam.height, style);
   r.gpuMilliseconds = msSince(t0);
   r.gpuTiming = "glFinish+steady_clock (includes generation)";
 

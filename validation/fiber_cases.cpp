@@ -15,6 +15,7 @@
 #include "common/yarn_frame.h"
 #include "reference/fiber_reference.h"
 #include "scene/camera.h"
+#include "gpu/fiber_renderer.h"
 #include "validation/harness.h"
 #include "gpu/gpu_timer.h"
 #include "validation/vertex_compare.h"
@@ -315,11 +316,12 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
     // Both images use the comparison's view and decisions (a thumbnail of
     // another aspect ratio would stretch).
     const std::string stem = name;
-    r.images.push_back(ctx.saveImage(gpu.renderVertices(cpu.geometry.vertices, cpu.geometry.decisions,
-                                                        o.imageWidth, o.imageHeight, RenderStyle{}),
+    FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
+    r.images.push_back(ctx.saveImage(renderer.previewVertices(gpu, cpu.geometry.vertices, cpu.geometry.decisions,
+                                                              o.imageWidth, o.imageHeight),
                                      stem + "-cpu"));
-    RgbaImage g = spec.tessellation ? gpu.renderTessellation(o.imageWidth, o.imageHeight, RenderStyle{})
-                                    : gpu.renderCompute(o.imageWidth, o.imageHeight, RenderStyle{});
+    RgbaImage g = renderer.preview(gpu, spec.tessellation ? FiberPath::Tessellation : FiberPath::Compute,
+                                   o.imageWidth, o.imageHeight);
     r.images.push_back(ctx.saveImage(g, stem + "-gpu"));
   }
   return r;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "gpu/fiber_gpu.h"
+#include "gpu/fiber_renderer.h"
 #include "gpu/gl_context.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"

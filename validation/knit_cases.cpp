@@ -15,6 +15,7 @@
 #include "knit/knit_problem.h"
 #include "reference/knit_reference.h"
 #include "scene/input_error.h"
+#include "gpu/fiber_renderer.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -134,6 +135,7 @@ GpuRun runGpu(ValidationContext& ctx, const KnitSetup& s) {
 std::string knitThumbnail(ValidationContext& ctx, const YarnModel& model, const std::string& stem) {
   struct Renderer {
     std::unique_ptr<FiberGpu> gpu;
+    std::unique_ptr<FiberRenderer> renderer;
     FiberSetup fibers;
   };
   Renderer& r = ctx.cached(CacheKey<Renderer>{"knit/thumbnail-renderer"}, [&] {
@@ -143,6 +145,7 @@ std::string knitThumbnail(ValidationContext& ctx, const YarnModel& model, const 
     fo.seed = ctx.options().fiber.seed;
     made.fibers = makeFiberSetup(preset, fo);
     made.gpu = std::make_unique<FiberGpu>(ctx.gl());
+    made.renderer = std::make_unique<FiberRenderer>(ctx.gl());
     return made;
   });
   const HarnessOptions& o = ctx.options();
@@ -150,7 +153,7 @@ std::string knitThumbnail(ValidationContext& ctx, const YarnModel& model, const 
   r.gpu->setParams(r.fibers.params, makeViewParams(frameModel(model, glm::vec3(0.15f, -0.35f, 1.0f), o.imageWidth,
                                                        o.imageHeight),
                                             1.0f, true, true));
-  return ctx.saveImage(r.gpu->renderCompute(o.imageWidth, o.imageHeight, RenderStyle{}), stem);
+  return ctx.saveImage(r.renderer->preview(*r.gpu, FiberPath::Compute, o.imageWidth, o.imageHeight), stem);
 }
 
 double gpuEnergy(const GpuRun& g, uint32_t tile, int k) { return g.energies[tile].energy[k]; }

@@ -4,7 +4,7 @@
 #pragma once
 #include <filesystem>
 
-#include "gpu/fiber_gpu.h"
+#include "gpu/fiber_renderer.h"
 #include "gpu/gl_context.h"
 #include "validation/harness.h"
 

@@ -20,15 +20,16 @@
 #include "image/flip.h"
 #include "image/image_io.h"
 #include "image/image_metrics.h"
-#include "reference/bcsdf_tables.h"
+#include "gpu/fiber_renderer.h"
+#include "gpu/shading_inputs_gpu.h"
 #include "reference/fiber_reference.h"
 #include "reference/fiber_trace.h"
+#include "reference/shading_inputs.h"
 #include "scene/fabric.h"
 #include "scene/camera.h"
 #include "scene/lighting.h"
 #include "validation/bcsdf_oracle.h"
 #include "validation/harness.h"
-#include "gpu/bcsdf_gpu.h"
 
 namespace ft {
 
@@ -129,8 +130,9 @@ ImageRgbaF renderGpu(ValidationContext& ctx, const GroundTruthInputs& in, const 
   gpu.setModel(ctx.buffers(), in.setup->table);
   gpu.setParams(in.setup->params, in.view);
   gpu.setSegmentList({});
-  gpu.setShading(s, ctx.gpu<BcsdfGpu>().bakeAmbientTable(s.fabric));
-  return tessellation ? gpu.renderTessellationShaded(kWidth, kHeight) : gpu.renderComputeShaded(kWidth, kHeight);
+  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake(s));
+  return renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kWidth, kHeight);
 }
 
 // What both kinds of case start with: the result's identity, the lighting
@@ -162,12 +164,12 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tes
   const ImageRgbaF& gpu = start.image;
 
   const auto t1 = Clock::now();
-  const std::vector<glm::vec3> table = bakeAmbientTableCpu(s.fabric);
+  const std::vector<glm::vec3> table = bakeShadingInputsCpu(s).ambientTable;
   // The ground truth at the rasteriser's own multisample positions: the same
   // samples decide coverage on both sides, and the GPU shades once per pixel
   // per fiber where the truth shades each sample.
   TraceOptions samples;
-  samples.samplePositions = ctx.gpu<FiberGpu>().shadedSamplePositions();
+  samples.samplePositions = ctx.gpu<FiberRenderer>().samplePositions();
   samples.samplesPerPixel = static_cast<int>(samples.samplePositions.size());
   samples.shadows = false;
   const TraceResult truth = traceFibers(*in.scene, in.camera, s, table, samples);
@@ -315,10 +317,11 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
   gpu.setModel(buffers, table);
   gpu.setParams(p, makeViewParams(cam, 1.0f, false, true));
   gpu.setSegmentList({});
-  gpu.setShading(s, ctx.gpu<BcsdfGpu>().bakeAmbientTable(s.fabric));
+  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake(s));
   const auto t0 = Clock::now();
-  const ImageRgbaF img = tessellation ? gpu.renderTessellationShaded(cam.width, cam.height)
-                                      : gpu.renderComputeShaded(cam.width, cam.height);
+  const ImageRgbaF img =
+      renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, cam.width, cam.height);
   r.gpuMilliseconds = msSince(t0);
 
   const FabricPreset& preset = findFabricPreset(fabric);

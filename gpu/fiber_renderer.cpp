@@ -1,0 +1,181 @@
+#include "gpu/fiber_renderer.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "common/constants.h"
+#include "gpu/shader_library.h"
+
+namespace ft {
+namespace {
+
+void setUint(GLuint program, const char* name, uint32_t value) {
+  const GLint loc = glGetUniformLocation(program, name);
+  if (loc >= 0) glProgramUniform1ui(program, loc, value);
+}
+
+void setVec3(GLuint program, const char* name, glm::vec3 v) {
+  const GLint loc = glGetUniformLocation(program, name);
+  if (loc >= 0) glProgramUniform3f(program, loc, v.x, v.y, v.z);
+}
+
+Buffer makeBuffer(size_t bytes, const void* data) {
+  Buffer b = Buffer::createMutable(std::max<size_t>(bytes, 16));  // never empty: binding one is an error
+  if (data && bytes) b.update(data, bytes);
+  return b;
+}
+
+}  // namespace
+
+// A 4× multisampled colour + depth target and its single-sampled resolve.
+struct MultisampleTarget {
+  Framebuffer ms = Framebuffer::create(), resolve = Framebuffer::create();
+  Renderbuffer msColor = Renderbuffer::create(), depth = Renderbuffer::create(), resolveColor = Renderbuffer::create();
+  int width, height;
+
+  MultisampleTarget(int w, int h, GLenum colorFormat) : width(w), height(h) {
+    glNamedRenderbufferStorageMultisample(msColor.id(), 4, colorFormat, w, h);
+    glNamedRenderbufferStorageMultisample(depth.id(), 4, GL_DEPTH_COMPONENT24, w, h);
+    glNamedRenderbufferStorage(resolveColor.id(), colorFormat, w, h);
+    glNamedFramebufferRenderbuffer(ms.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColor.id());
+    glNamedFramebufferRenderbuffer(ms.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.id());
+    glNamedFramebufferRenderbuffer(resolve.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor.id());
+  }
+  void begin(glm::vec4 clear) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, ms.id());
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glClearColor(clear.x, clear.y, clear.z, clear.w);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+  void finish() const {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_DEPTH_TEST);
+  }
+  // Resolves and reads the colour back with row 0 at the top (GL's is the bottom).
+  template <class T>
+  std::vector<T> read(GLenum type) const {
+    glBlitNamedFramebuffer(ms.id(), resolve.id(), 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
+    const size_t row = static_cast<size_t>(width) * 4;
+    std::vector<T> rows(row * height), out(row * height);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve.id());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, type, rows.data());
+    for (int y = 0; y < height; ++y)
+      std::copy_n(rows.data() + static_cast<size_t>(height - 1 - y) * row, row, out.data() + static_cast<size_t>(y) * row);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    return out;
+  }
+};
+
+FiberRenderer::FiberRenderer(const GlInfo&, std::vector<std::string> defines) : defines_(std::move(defines)) {}
+
+FiberRenderer::~FiberRenderer() = default;
+
+GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path) {
+  Program& p = programs_[path == FiberPath::Compute ? 0 : 1];
+  if (!p) {
+    FiberDrawStages stages = fibers.drawStages(path);
+    stages.files.push_back("shaders/fiber_strip.geom.glsl");
+    stages.files.push_back("shaders/fiber_strip.frag.glsl");
+    std::vector<std::string> defines = defines_;
+    defines.insert(defines.end(), stages.defines.begin(), stages.defines.end());
+    p = Program(buildProgram(stages.files, defines));
+  }
+  return p.id();
+}
+
+void FiberRenderer::setShading(const ShadingInputs& inputs) {
+  checkShadingInputs(inputs);
+  inputs_ = inputs;
+  shadingUbo_ = makeBuffer(sizeof(ShadingParams), &inputs.params);
+  std::vector<glm::vec4> texels;
+  for (const glm::vec3& a : inputs.ambientTable) texels.emplace_back(a, 0.0f);
+  ambientTable_ = makeBuffer(texels.size() * sizeof(glm::vec4), texels.data());
+}
+
+void FiberRenderer::bindShading() const {
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING, shadingUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
+}
+
+void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height) {
+  if (!shadingUbo_) throw std::logic_error("FiberRenderer: setShading() before a shaded frame");
+  const GLuint prog = program(fibers, path);
+  fibers.prepareDraw(path);
+  // 32-bit float: the ground-truth comparison needs more than half's 11 bits.
+  if (!shadedTarget_ || shadedTarget_->width != width || shadedTarget_->height != height)
+    shadedTarget_ = std::make_unique<MultisampleTarget>(width, height, GL_RGBA32F);
+  shadedTarget_->begin(glm::vec4(glm::vec3(inputs_.params.background), 0.0f));
+  bindShading();
+  setUint(prog, "shaded", 1u);
+  fibers.draw(path, prog);
+  shadedTarget_->finish();
+}
+
+ImageRgbaF FiberRenderer::read() const {
+  if (!shadedTarget_) throw std::logic_error("FiberRenderer: read() before draw()");
+  ImageRgbaF img;
+  img.width = shadedTarget_->width;
+  img.height = shadedTarget_->height;
+  img.pixels = shadedTarget_->read<float>(GL_FLOAT);
+  return img;
+}
+
+ImageRgbaF FiberRenderer::render(FiberGpu& fibers, FiberPath path, int width, int height) {
+  draw(fibers, path, width, height);
+  return read();
+}
+
+std::vector<glm::vec2> FiberRenderer::samplePositions() const {
+  if (!shadedTarget_) throw std::logic_error("FiberRenderer: samplePositions() before draw()");
+  glBindFramebuffer(GL_FRAMEBUFFER, shadedTarget_->ms.id());
+  GLint samples = 0;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  std::vector<glm::vec2> out;
+  for (GLint i = 0; i < samples; ++i) {
+    GLfloat p[2] = {0.5f, 0.5f};
+    glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(i), p);
+    out.emplace_back(p[0], 1.0f - p[1]);  // GL's pixel y points up
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return out;
+}
+
+namespace {
+
+void setPreviewUniforms(GLuint prog, const RenderStyle& style) {
+  setUint(prog, "shaded", 0u);
+  setVec3(prog, "lightDir", style.lightDir);
+  setVec3(prog, "baseColor", style.baseColor);
+}
+
+}  // namespace
+
+RgbaImage FiberRenderer::preview(FiberGpu& fibers, FiberPath path, int width, int height, const RenderStyle& style) {
+  const GLuint prog = program(fibers, path);
+  fibers.prepareDraw(path);
+  const MultisampleTarget target(width, height, GL_RGBA8);
+  target.begin(glm::vec4(style.background, 1.0f));
+  setPreviewUniforms(prog, style);
+  fibers.draw(path, prog);
+  target.finish();
+  return RgbaImage{width, height, target.read<uint8_t>(GL_UNSIGNED_BYTE)};
+}
+
+RgbaImage FiberRenderer::previewVertices(FiberGpu& fibers, std::span<const FiberVertex> vertices,
+                                         std::span<const SegmentDecision> decisions, int width, int height,
+                                         const RenderStyle& style) {
+  const GLuint prog = program(fibers, FiberPath::Compute);
+  const MultisampleTarget target(width, height, GL_RGBA8);
+  target.begin(glm::vec4(style.background, 1.0f));
+  setPreviewUniforms(prog, style);
+  fibers.drawVertices(vertices, decisions, prog);
+  target.finish();
+  return RgbaImage{width, height, target.read<uint8_t>(GL_UNSIGNED_BYTE)};
+}
+
+}  // namespace ft

@@ -1,0 +1,80 @@
+// fiber_renderer.h — draws the fibers a FiberGpu generates: it owns the
+// multisample targets, the strip geometry and fragment stages (capsule
+// impostors, fiber_strip.geom/frag.glsl) and the shading inputs
+// (scene/shading_inputs.h) bound at the "shading inputs" slots of
+// common/constants.h. FiberGpu owns generation; this owns the frame.
+#pragma once
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/fiber_vertex.h"
+#include "gpu/fiber_gpu.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_objects.h"
+#include "image/image.h"
+#include "scene/shading_inputs.h"
+
+namespace ft {
+
+struct RgbaImage {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> pixels;  // RGBA8, row 0 at the top
+};
+
+// The unshaded preview: one colour, a headlight-style Lambert term.
+struct RenderStyle {
+  glm::vec3 baseColor{0.85f, 0.78f, 0.62f};
+  glm::vec3 background{0.08f, 0.08f, 0.1f};
+  glm::vec3 lightDir{0.3f, 0.8f, 0.5f};
+};
+
+class FiberRenderer {
+ public:
+  // `defines` are injected into every shader (fault injection); they must be
+  // those the FiberGpu it draws was built with.
+  explicit FiberRenderer(const GlInfo& gl, std::vector<std::string> defines = {});
+  ~FiberRenderer();
+  FiberRenderer(const FiberRenderer&) = delete;
+  FiberRenderer& operator=(const FiberRenderer&) = delete;
+
+  // Shaded frames (000 §4.3, common/fiber_shading.h): linear HDR radiance,
+  // alpha = the fraction of the pixel the fibers cover (4× multisampling,
+  // capsules tested per sample). Checks the inputs (checkShadingInputs).
+  void setShading(const ShadingInputs& inputs);
+  const ShadingInputs& shading() const { return inputs_; }
+  // One shaded frame into the kept float target, without the read-back: what
+  // a frame costs (the benches time this); read() then returns it.
+  void draw(FiberGpu& fibers, FiberPath path, int width, int height);
+  ImageRgbaF read() const;
+  ImageRgbaF render(FiberGpu& fibers, FiberPath path, int width, int height);
+  // The shaded target's multisample positions in the pixel ([0, 1]², y down
+  // as the read-back image), as GL reports them (after a draw()).
+  std::vector<glm::vec2> samplePositions() const;
+
+  // Unshaded RGBA8 previews (harness thumbnails, `render --preview`): the
+  // path's own fibers, or an arbitrary vertex stream in canonical strip order
+  // (e.g. the CPU reference's) drawn as the compute path draws its buffers.
+  RgbaImage preview(FiberGpu& fibers, FiberPath path, int width, int height, const RenderStyle& style = {});
+  RgbaImage previewVertices(FiberGpu& fibers, std::span<const FiberVertex> vertices,
+                            std::span<const SegmentDecision> decisions, int width, int height,
+                            const RenderStyle& style = {});
+
+ private:
+  GLuint program(const FiberGpu& fibers, FiberPath path);  // built on first use per path
+  void bindShading() const;
+
+  std::vector<std::string> defines_;
+  Program programs_[2];
+  Buffer shadingUbo_, ambientTable_;
+  ShadingInputs inputs_;
+  std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
+};
+
+}  // namespace ft
