@@ -10,6 +10,7 @@
 #define FT_UBO_DISPATCH 2
 #define FT_UBO_KNIT_PARAMS 3
 #define FT_UBO_SHADING 4
+#define FT_UBO_SELF_SHADOW 5       // SelfShadowParams + YarnDensityParams (common/self_shadow.h)
 
 // Shader-storage bindings (std430).
 #define FT_SSBO_CONTROL_POINTS 0
@@ -36,6 +37,11 @@
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/fiber_shading.h)
 #define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
+// Self-shadow 3D texture (common/self_shadow.h, gpu/self_shadow_gpu.h): SSBO 24–27.
+#define FT_SSBO_SELF_SHADOW_TEXTURE 24   // float[N_s][N_v][N_u]: D, the baked texture
+#define FT_SSBO_SELF_SHADOW_DENSITY 25   // float[N_s][N_v][N_u]: ρ at the texel centres (grid variant)
+#define FT_SSBO_SELF_SHADOW_REQUESTS 26  // lookup requests (harness)
+#define FT_SSBO_SELF_SHADOW_RESULTS 27   // their results
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u
@@ -54,6 +60,7 @@
 #define FT_WG_KNIT 64
 #define FT_WG_KNIT_UPSAMPLE 64
 #define FT_WG_BCSDF 64
+#define FT_WG_SELF_SHADOW 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu
