@@ -35,8 +35,7 @@ constexpr Size kSizes[] = {{"ci", FT_SELF_SHADOW_CI_SIZE, FT_SELF_SHADOW_CI_SLIC
                            {"default", FT_SELF_SHADOW_DEFAULT_SIZE, FT_SELF_SHADOW_DEFAULT_SLICES}};
 
 ft::YarnDensityParams g_density{};
-std::unique_ptr<ft::GlContext> g_gl;
-std::unique_ptr<ft::SelfShadowGpu> g_gpu;
+ft::SelfShadowGpu* g_gpu = nullptr;  // owned by main, destroyed before its GL context
 
 ft::SelfShadowParams paramsOf(const Size* s) {
   return ft::makeSelfShadowParams(g_density, s->size, s->size, s->slices);
@@ -66,9 +65,10 @@ int main(int argc, char** argv) {
     if (ft::takeFlag(argc, argv, "threads", n)) threads = std::max(1, std::atoi(n.c_str()));
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     g_density = ft::makeYarnDensity(ft::findYarnPreset(yarn));
-    g_gl = ft::GlContext::create(ft::glBackendFromEnv());
-    g_gpu = std::make_unique<ft::SelfShadowGpu>(g_gl->info());
-    benchmark::AddCustomContext("gl_renderer", g_gl->info().renderer);
+    const std::unique_ptr<ft::GlContext> gl = ft::GlContext::create(ft::glBackendFromEnv());
+    const std::unique_ptr<ft::SelfShadowGpu> gpu = std::make_unique<ft::SelfShadowGpu>(gl->info());
+    g_gpu = gpu.get();
+    benchmark::AddCustomContext("gl_renderer", gl->info().renderer);
     benchmark::AddCustomContext("yarn", yarn);
     benchmark::AddCustomContext("cpu_threads", std::to_string(threads));
     benchmark::AddCustomContext("paper_000", "no bake timings, texture sizes or slice counts published");
@@ -85,8 +85,6 @@ int main(int argc, char** argv) {
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
-    g_gpu.reset();
-    g_gl.reset();
   } catch (const ft::InputError& e) {
     std::cerr << "ft_appearance_bench: " << e.what() << "\n";
     return 2;
