@@ -10,18 +10,18 @@
 namespace ft {
 
 SelfShadowParams makeSelfShadowParams(const YarnDensityParams& density, uint32_t width, uint32_t height,
-                                      uint32_t slices, float kappa) {
+                                      uint32_t slices, std::optional<float> kappa) {
   // 3 texels: one of margin on each side of the support and one inside.
   if (width < 3 || height < 3 || slices < 1 || width > 4096 || height > 4096 || slices > 4096)
     throw std::invalid_argument(fmt::format("self-shadow texture size {}×{}×{}: each axis must be in [3, 4096] "
                                             "(slices in [1, 4096])",
                                             width, height, slices));
-  if (std::isnan(kappa) || std::isinf(kappa))
-    throw std::invalid_argument(fmt::format("self-shadow kappa {}: must be a finite number", kappa));
+  if (kappa && !(std::isfinite(*kappa) && *kappa >= 0.0f))
+    throw std::invalid_argument(fmt::format("self-shadow kappa {}: must be a finite number ≥ 0", *kappa));
   if (!(density.supportRadius > 0.0f) || density.plyCount == 0)
     throw std::invalid_argument(fmt::format("self-shadow: density field without support (W {}, {} plies)",
                                             density.supportRadius, density.plyCount));
-  const float k = kappa > 0.0f ? kappa : 2.0f * ftSelfShadowFiberRadius(density);
+  const float k = kappa ? *kappa : 2.0f * ftSelfShadowFiberRadius(density);
   return ftSelfShadowParams(density, width, height, slices, k);
 }
 

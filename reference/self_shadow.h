@@ -5,6 +5,7 @@
 // TBB over rows; and the per-fragment lookup on such a texture.
 #pragma once
 #include <glm/glm.hpp>
+#include <optional>
 #include <vector>
 
 #include "common/self_shadow.h"
@@ -18,11 +19,12 @@ struct SelfShadowTexture {
   float at(uint32_t i, uint32_t j, uint32_t k) const { return texels[ftSelfShadowIndex(params, i, j, k)]; }
 };
 
-// The layout of `density` at width × height × slices with κ (κ ≤ 0: the
-// default 2 r_f, ftSelfShadowFiberRadius). std::invalid_argument naming the
-// value for sizes below 3 × 3 × 1, above 4096 per axis, or a κ that is NaN.
+// The layout of `density` at width × height × slices with κ (none: the
+// default 2 r_f, ftSelfShadowFiberRadius; 0 turns the shadow off).
+// std::invalid_argument naming the value for sizes below 3 × 3 × 1, above
+// 4096 per axis, or a κ that is negative, NaN or infinite.
 SelfShadowParams makeSelfShadowParams(const YarnDensityParams& density, uint32_t width, uint32_t height,
-                                      uint32_t slices, float kappa = 0.0f);
+                                      uint32_t slices, std::optional<float> kappa = std::nullopt);
 
 // The exact bake: D_k(i, j) = τ((u_i, v_j), (−1, 0)) at ψ_k.
 SelfShadowTexture bakeSelfShadowCpu(const YarnDensityParams& density, const SelfShadowParams& params);

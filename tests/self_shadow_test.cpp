@@ -163,6 +163,8 @@ TEST(SelfShadow, RefusesBadSizes) {
   EXPECT_THROW(makeSelfShadowParams(d, 2, 64, 8), std::invalid_argument);
   EXPECT_THROW(makeSelfShadowParams(d, 64, 64, 0), std::invalid_argument);
   EXPECT_THROW(makeSelfShadowParams(d, 64, 64, 8, NAN), std::invalid_argument);
+  EXPECT_THROW(makeSelfShadowParams(d, 64, 64, 8, -1.0f), std::invalid_argument);
+  EXPECT_EQ(makeSelfShadowParams(d, 64, 64, 8, 0.0f).kappa, 0.0f);  // no shadow: allowed
   const SelfShadowParams p = makeSelfShadowParams(d, 64, 64, 8);
   EXPECT_NEAR(p.kappa, 2.0f * 1.16e-3f, 1e-5f);  // notes §0.3: r_f = 1.16e-3 for cotton1
   EXPECT_GT(p.halfWidth, d.supportRadius);

@@ -17,5 +17,13 @@ void main() {
   uint t = flatInvocationIndex(groupsX, FT_WG_SELF_SHADOW);
   if (t >= shadow.width * shadow.height * shadow.slices) return;
   uint i = t % shadow.width, j = (t / shadow.width) % shadow.height, k = t / (shadow.width * shadow.height);
+#ifdef FT_FAULT_SELF_SHADOW_ELLIPSE_SWAP
+  // Planted fault: the ply's semi-axes exchanged (e_N across the ply direction).
+  YarnDensityParams d = density;
+  d.ellipseN = density.ellipseB;
+  d.ellipseB = density.ellipseN;
+  texels[t] = ftSelfShadowExact(shadow, d, i, j, k);
+#else
   texels[t] = ftSelfShadowExact(shadow, density, i, j, k);
+#endif
 }
