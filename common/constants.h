@@ -9,6 +9,7 @@
 #define FT_UBO_VIEW_PARAMS 1
 #define FT_UBO_DISPATCH 2
 #define FT_UBO_KNIT_PARAMS 3
+#define FT_UBO_SELF_SHADOW 5       // SelfShadowParams + YarnDensityParams (common/self_shadow.h)
 
 // Shader-storage bindings (std430).
 #define FT_SSBO_CONTROL_POINTS 0
@@ -34,6 +35,11 @@
 #define FT_SSBO_FRAME_CARRY 20
 #define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
+// Self-shadow 3D texture (common/self_shadow.h, gpu/self_shadow_gpu.h): SSBO 24–27.
+#define FT_SSBO_SELF_SHADOW_TEXTURE 24   // float[N_s][N_v][N_u]: D, the baked texture
+#define FT_SSBO_SELF_SHADOW_DENSITY 25   // float[N_s][N_v][N_u]: ρ at the texel centres (grid variant)
+#define FT_SSBO_SELF_SHADOW_REQUESTS 26  // lookup requests (harness)
+#define FT_SSBO_SELF_SHADOW_RESULTS 27   // their results
 
 // Shading inputs (scene/shading_inputs.h): everything a shaded frame reads
 // besides the fibers, bound together by gpu/fiber_renderer.cpp. A new
@@ -59,6 +65,7 @@
 #define FT_WG_KNIT 64
 #define FT_WG_KNIT_UPSAMPLE 64
 #define FT_WG_BCSDF 64
+#define FT_WG_SELF_SHADOW 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

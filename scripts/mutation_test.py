@@ -242,6 +242,13 @@ def checks_for(rel, args, copy, build):
     if rel.startswith("common/") and not knit and os.path.basename(rel) in ("prelude.h", "constants.h"):
         filt = "."
     harness = ["harness", [fib, "validate", "--no-images", "--filter", filt, "--report", report] + args.validate_args.split(), {}]
+    # The self-shadow texture (common/self_shadow.h, its bakes and shaders): its own cases and unit test.
+    if "self_shadow" in os.path.basename(rel):
+        harness[1][4] = "^selfshadow/"
+        if rel.startswith("gpu/shaders/"):
+            harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
+            return [tuple(harness)]
+        return [tuple(harness), ("units", [os.path.join(tests, "self_shadow_test"), "--gtest_brief=1"], {})]
     if rel.startswith("gpu/shaders/"):
         harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
         return [tuple(harness)]
@@ -280,7 +287,7 @@ def run(cmd, timeout, env=None, cwd=None, log=None):
 
 
 TARGETS = ["fibertwin", "fiber_math_test", "fiber_reference_test", "knit_solver_test", "oracle_fiber_test",
-           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test"]
+           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "self_shadow_test"]
 # Input-parsing sources have unit tests of their own.
 SCENE_UNITS = {"scene/bcc_reader.cpp": "bcc_reader_test", "scene/yarn_preset.cpp": "yarn_preset_test"}
 

@@ -7,6 +7,7 @@
 
 #include "common/bcsdf.h"
 #include "common/fiber_shading.h"
+#include "common/self_shadow.h"
 #include "common/yarn_frame.h"
 
 namespace ft {
@@ -35,6 +36,8 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
   if (define == "FT_FAULT_BCSDF_NORM_THETA_I") ftFaultBcsdfNormThetaI = on;
   if (define == "FT_FAULT_SHADING_COS_DROPPED") ftFaultShadingCosDropped = on;
+  if (define == "FT_FAULT_SELF_SHADOW_SLICE_RANGE") ftFaultSelfShadowSliceRange = on;
+  if (define == "FT_FAULT_SELF_SHADOW_PSI_SIGN") ftFaultSelfShadowPsiSign = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
