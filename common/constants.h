@@ -36,6 +36,12 @@
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/fiber_shading.h)
 #define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
+// Core-fiber texture bake (common/core_texture.h, gpu/core_texture_gpu.h;
+// 000 §3.2): SSBO 32–35 and UBO 7 are this group's (others use 24–31, UBO 5–6).
+#define FT_UBO_CORE_TEXTURE 7      // CoreTextureParams
+#define FT_SSBO_CORE_FIBERS 32     // vec4[coreFibers]: ftCoreFiberRow
+#define FT_SSBO_CORE_TEX0 33       // vec4[columns·height]: (h, n_u, n_v, 0), row-major
+#define FT_SSBO_CORE_TEX1 34       // vec4[columns·height]: (t_u, t_v, t_w, 0)
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u
@@ -54,6 +60,7 @@
 #define FT_WG_KNIT 64
 #define FT_WG_KNIT_UPSAMPLE 64
 #define FT_WG_BCSDF 64
+#define FT_WG_CORE_TEXTURE 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu
