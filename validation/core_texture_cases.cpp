@@ -43,11 +43,13 @@ const char* kIouWhy = "notes A1 C2: IoU ≥ 0.98 of the hit masks after a 1-texe
 // float hit points differ by δ⊥ along the surface normal, which moves x by
 // δ⊥ / n_x, so near a tube's rim (n_x → 0) any float difference grows without
 // bound. The metrics weigh each texel's error by n_x (the smaller of the two
-// sides'): |Δh| n_x 2 R_core / r_f and |Δn| n_x are δ⊥ / r_f. Both intersectors
-// solve a quadratic whose discriminant cancels at a rim; 2e-3 r_f (≈ 1.5 nm
-// on cotton1 fitted to the built-in scene) is ~4× the largest seen over
-// the nine presets (docs/core-texture.md).
-constexpr double kSurfaceOffsetTolerance = 2e-3;
+// sides'): |Δh| n_x 2 R_core / r_f and |Δn| n_x are δ⊥ / r_f. Embree's round
+// linear curves are not an exact capsule chain: on face-on texels they sit up
+// to 1.8e-3 r_f from the chain intersected in double (the GPU's float chain:
+// 7e-6 r_f), over the nine presets fitted to the built-in scene — the same
+// size as the chain's own sagitta against the helix (surface.max_rel, ~1.2e-3).
+// 5e-3 r_f (≈ 3.5 nm on cotton1 here).
+constexpr double kSurfaceOffsetTolerance = 5e-3;
 // The tangent at the Newton-refined θ of the same hit point: 0.05°.
 constexpr double kTangentToleranceDeg = 0.05;
 // C1 seam: notes A1, |Δh| < 1e-3 on interior texels of the two columns.
@@ -198,7 +200,7 @@ CaseResult runCross(ValidationContext& ctx, const YarnPreset& preset, const std:
       Metric{"mask.one_minus_iou", eUni > 0 ? 1.0 - eInter / eUni : 1.0, kIouTolerance, "1 − IoU", kIouWhy},
       Metric{"h.max_abs", dh, kSurfaceOffsetTolerance, "fraction of r_f",
              "interior texels (both masks, 1-texel erosion): |Δh| n_x 2 R_core / r_f, the hit points' offset along "
-             "the surface normal: float roots of the ray–tube quadratic, 2e-3 r_f"},
+             "the surface normal: Embree's round curves vs the float capsule chain, ≤ 1.8e-3 r_f measured, 5e-3"},
       Metric{"normal.max_abs", dn, kSurfaceOffsetTolerance, "unit vector components × n_x",
              "|Δ(n_u, n_v)| n_x: the same offset over r_f"},
       Metric{"h.max_abs_unweighted", rawH, 1.0, "height units", "informational: |Δh| without the n_x weight", false},
