@@ -34,7 +34,7 @@ void BM_CoreTextureCapsules(benchmark::State& state, uint32_t w, uint32_t h) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_CoreTextureEmbree, ci, FT_CORE_TEXTURE_CI_WIDTH, FT_CORE_TEXTURE_CI_HEIGHT)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_CoreTextureEmbree, default, FT_CORE_TEXTURE_WIDTH, FT_CORE_TEXTURE_HEIGHT)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_CoreTextureCapsules, ci, FT_CORE_TEXTURE_CI_WIDTH, FT_CORE_TEXTURE_CI_HEIGHT)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CoreTextureEmbree, ci, ft::FT_CORE_TEXTURE_CI_WIDTH, ft::FT_CORE_TEXTURE_CI_HEIGHT)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CoreTextureEmbree, default, ft::FT_CORE_TEXTURE_WIDTH, ft::FT_CORE_TEXTURE_HEIGHT)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CoreTextureCapsules, ci, ft::FT_CORE_TEXTURE_CI_WIDTH, ft::FT_CORE_TEXTURE_CI_HEIGHT)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -221,7 +221,13 @@ CaseResult runCross(ValidationContext& ctx, const YarnPreset& preset, const std:
   if (ctx.options().images && preset.name == ctx.presets().front()->name) {
     r.images.push_back(ctx.saveImage(picture(c, 4), name + "-cpu"));
     r.images.push_back(ctx.saveImage(picture(g, 4), name + "-gpu"));
-    r.imageCaptions = {"CPU Embree: height / normal / direction", "GPU capsule chain"};
+    // The default size too (CPU only, ~20 ms): what the renderer would sample.
+    const FiberSetup& fs = ctx.fiberSetup(preset);
+    const CoreTexture full = bakeCoreTextureEmbree(
+        makeCoreTextureInput(fs.params, fs.table, FT_CORE_TEXTURE_WIDTH, FT_CORE_TEXTURE_HEIGHT));
+    r.images.push_back(ctx.saveImage(picture(full, 1), name + "-cpu-default"));
+    r.imageCaptions = {"CPU Embree 128×16 (×4): height / normal / direction", "GPU capsule chain 128×16 (×4)",
+                       "CPU Embree at the default 512×64"};
   }
   r.finish();
   return r;
