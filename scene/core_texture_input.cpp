@@ -22,6 +22,21 @@ CoreTextureInput makeCoreTextureInput(const YarnParams& params, const std::vecto
   return in;
 }
 
+CoreTexel sampleCoreTexture(const CoreTexture& t, float u, float v) {
+  if (t.columns < 2 || t.height < 2 || t.tex0.size() != size_t(t.columns) * t.height)
+    throw InputError(fmt::format("sampleCoreTexture: a {}×{} texture with {} texels", t.columns, t.height, t.tex0.size()));
+  const CoreLookup l = ftCoreTextureLookup(t.columns, t.height, u, v);
+  const auto lerp2 = [&](const std::vector<glm::vec4>& tex) {
+    const auto at = [&](uint32_t i, uint32_t j) { return tex[size_t(j) * t.columns + i]; };
+    return glm::mix(glm::mix(at(l.i.x, l.j.x), at(l.i.y, l.j.x), l.w.x),
+                    glm::mix(at(l.i.x, l.j.y), at(l.i.y, l.j.y), l.w.x), l.w.y);
+  };
+  CoreTexel out;
+  out.tex0 = lerp2(t.tex0);
+  out.tex1 = lerp2(t.tex1);
+  return out;
+}
+
 CoreTextureInput seamStrip(CoreTextureInput input) {
   input.params.columns = input.params.width + 1;
   input.params.uOffset = 0.0f;

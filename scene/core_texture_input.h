@@ -35,6 +35,11 @@ struct CoreTexture {
 CoreTextureInput makeCoreTextureInput(const YarnParams& params, const std::vector<FiberCoord>& table, uint32_t width,
                                       uint32_t height, uint32_t yarn = 0, uint32_t ply = 0);
 
+// The texture looked up at (u, v) the way a renderer does (notes §0.4:
+// texel fetches and ftCoreTextureLookup's lerp; u wraps, v clamps). Needs
+// columns == params.width (a whole baked texture, not a seam strip).
+CoreTexel sampleCoreTexture(const CoreTexture& texture, float u, float v);
+
 // The columns W + 1 from u = 0 to u = 1 inclusive (the seam check: column 0
 // and column W look at the same place of a periodic texture).
 CoreTextureInput seamStrip(CoreTextureInput input);

@@ -178,6 +178,29 @@ TEST(core_texture, LookupWrapsInUAndClampsInV) {
   EXPECT_EQ(l.j.y, 3u);
 }
 
+TEST(core_texture, SamplingReturnsTexelsAtCentresAndWrapsInU) {
+  const CoreTextureInput in = ciInput(cotton1());
+  const CoreTexture t = bakeCoreTextureEmbree(in);
+  const uint32_t w = t.columns, h = t.height;
+  for (uint32_t j = 0; j < h; j += 5)
+    for (uint32_t i = 0; i < w; i += 7) {
+      const CoreTexel s = sampleCoreTexture(t, (i + 0.5f) / w, (j + 0.5f) / h);
+      for (int c = 0; c < 4; ++c) {
+        EXPECT_NEAR(s.tex0[c], t.at0(i, j)[c], 1e-5f) << i << " " << j;
+        EXPECT_NEAR(s.tex1[c], t.at1(i, j)[c], 1e-5f) << i << " " << j;
+      }
+    }
+  // u = 0 is half way between the last and the first column; u and u + 1 agree.
+  const CoreTexel a = sampleCoreTexture(t, 0.0f, 0.5f), b = sampleCoreTexture(t, 1.0f, 0.5f);
+  const glm::vec4 want = 0.5f * (t.at0(w - 1, h / 2 - 1) + t.at0(0, h / 2 - 1)) * 0.5f +
+                         0.5f * (t.at0(w - 1, h / 2) + t.at0(0, h / 2)) * 0.5f;
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_NEAR(a.tex0[c], want[c], 1e-5f);
+    EXPECT_NEAR(b.tex0[c], a.tex0[c], 1e-6f);
+  }
+  EXPECT_THROW(sampleCoreTexture(CoreTexture{}, 0.5f, 0.5f), InputError);
+}
+
 TEST(core_texture, RuntimeUIsTheSemanticReadingOfEq3) {
   // u = frac(Φ/2π − k_ψ ψ/2π): Φ in turns.
   EXPECT_NEAR(ftCoreTextureU(2.25f, 0.0f, 0.5f), 0.25f, 1e-6f);

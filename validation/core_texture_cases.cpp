@@ -137,7 +137,8 @@ RgbaImage picture(const CoreTexture& t, int scale) {
   img.width = int(t.columns) * scale;
   const int band = int(t.height) * scale;
   img.height = 3 * band + 2 * scale;
-  img.pixels.assign(size_t(img.width) * img.height * 4, 40);
+  img.pixels.assign(size_t(img.width) * img.height * 4, 40);  // dark grey separators
+  for (size_t k = 3; k < img.pixels.size(); k += 4) img.pixels[k] = 255;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const int b = y / (band + scale), yy = y % (band + scale);
