@@ -35,11 +35,19 @@
 #define FT_SSBO_FRAME_CARRY 20
 #define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
+
 // Self-shadow 3D texture (common/self_shadow.h, gpu/self_shadow_gpu.h): SSBO 24–27.
 #define FT_SSBO_SELF_SHADOW_TEXTURE 24   // float[N_s][N_v][N_u]: D, the baked texture
 #define FT_SSBO_SELF_SHADOW_DENSITY 25   // float[N_s][N_v][N_u]: ρ at the texel centres (grid variant)
 #define FT_SSBO_SELF_SHADOW_REQUESTS 26  // lookup requests (harness)
 #define FT_SSBO_SELF_SHADOW_RESULTS 27   // their results
+
+// Core-fiber texture bake (common/core_texture.h, gpu/core_texture_gpu.h;
+// 000 §3.2): SSBO 32–35 and UBO 7 are this group's (others use 24–31, UBO 5–6).
+#define FT_UBO_CORE_TEXTURE 7      // CoreTextureParams
+#define FT_SSBO_CORE_FIBERS 32     // vec4[coreFibers]: ftCoreFiberRow
+#define FT_SSBO_CORE_TEX0 33       // vec4[columns·height]: (h, n_u, n_v, 0), row-major
+#define FT_SSBO_CORE_TEX1 34       // vec4[columns·height]: (t_u, t_v, t_w, 0)
 
 // Shading inputs (scene/shading_inputs.h): everything a shaded frame reads
 // besides the fibers, bound together by gpu/fiber_renderer.cpp. A new
@@ -66,6 +74,7 @@
 #define FT_WG_KNIT_UPSAMPLE 64
 #define FT_WG_BCSDF 64
 #define FT_WG_SELF_SHADOW 64
+#define FT_WG_CORE_TEXTURE 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

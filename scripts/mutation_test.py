@@ -231,11 +231,22 @@ def is_knit(rel):
     return "knit" in os.path.basename(rel)
 
 
+def is_core_texture(rel):
+    return "core_texture" in os.path.basename(rel)
+
+
 def checks_for(rel, args, copy, build):
     """(kind, command, env) of every check that can see a mutant in `rel`."""
     fib = os.path.join(build, "validation", "fibertwin")
     tests = os.path.join(build, "tests")
     report = os.path.join(build, "mutation-report")
+    if is_core_texture(rel):  # the core-fiber texture bake: its cases and unit tests only
+        env = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")} if rel.startswith("gpu/shaders/") else {}
+        out = [("harness", [fib, "validate", "--no-images", "--filter", "^core-texture/", "--report", report]
+                + args.validate_args.split(), env)]
+        if not rel.startswith("gpu/shaders/"):
+            out.append(("units", [os.path.join(tests, "core_texture_test"), "--gtest_brief=1"], {}))
+        return out
     knit = is_knit(rel) or rel.startswith("knit/")
     fiber_file = not knit
     filt = "knit" if knit else "fiber|frames|closeup|strip-width"
@@ -287,7 +298,7 @@ def run(cmd, timeout, env=None, cwd=None, log=None):
 
 
 TARGETS = ["fibertwin", "fiber_math_test", "fiber_reference_test", "knit_solver_test", "oracle_fiber_test",
-           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "self_shadow_test"]
+           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "self_shadow_test", "core_texture_test"]
 # Input-parsing sources have unit tests of their own.
 SCENE_UNITS = {"scene/bcc_reader.cpp": "bcc_reader_test", "scene/yarn_preset.cpp": "yarn_preset_test"}
 

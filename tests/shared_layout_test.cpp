@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/constants.h"
+#include "common/core_texture.h"
 #include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
@@ -58,6 +59,9 @@ namespace {
 #define FT_SHADING_PARAMS_MEMBERS(X) \
   X(fabric.colorR) X(fabric.colorTT) X(fabric.lobes) X(lightDirection) X(lightIrradiance) X(ambient) X(diffuse) \
   X(simple) X(flags) X(background)
+#define FT_CORE_TEXTURE_PARAMS_MEMBERS(X) \
+  X(width) X(height) X(columns) X(coreFibers) X(segmentsPerTwist) X(uOffset) X(alpha) X(coreHalfWidth) \
+  X(fiberRadius) X(twistSign) X(migrationS) X(rhoMin) X(rhoMax) X(plyScale) X(rayStart) X(pad0)
 // clang-format on
 
 struct Member {
@@ -109,6 +113,8 @@ std::vector<StructCase> structCases() {
       FT_STORAGE_CASE(KnitStitchGpu, FT_KNIT_STITCH_GPU_MEMBERS, FT_SSBO_KNIT_STITCHES),
       FT_STORAGE_CASE(KnitEnergyGpu, FT_KNIT_ENERGY_GPU_MEMBERS, FT_SSBO_KNIT_ENERGY),
       FT_UNIFORM_CASE(ShadingParams, FT_SHADING_PARAMS_MEMBERS, "ShadingBlock", "shading", FT_UBO_SHADING),
+      FT_UNIFORM_CASE(CoreTextureParams, FT_CORE_TEXTURE_PARAMS_MEMBERS, "CoreTextureBlock", "core",
+                      FT_UBO_CORE_TEXTURE),
   };
 }
 
@@ -290,6 +296,12 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   Buffer shadingCopy = Buffer::create(sizeof shading);
   shadingCopy.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE);
 
+  CoreTextureParams core = pattern<CoreTextureParams>(1500.0f);
+  Buffer coreUbo = Buffer::create(sizeof core, &core);
+  coreUbo.bindBase(GL_UNIFORM_BUFFER, FT_UBO_CORE_TEXTURE);
+  Buffer coreCopy = Buffer::create(sizeof core);
+  coreCopy.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX0);
+
   glUseProgram(program_.id());
   glDispatchCompute(1, 1, 1);
   glCheck("layout probe dispatch");
@@ -313,6 +325,7 @@ TEST_F(SharedLayoutTest, BytesSurviveTheGpu) {
   check(10, pattern<KnitEnergyGpu>(1300.0f), "KnitEnergyGpu");
   expectSameBytes(knit, readBuffer<KnitSolveParams>(knitCopy.id(), 1)[0], "KnitSolveParams (uniform block)");
   expectSameBytes(shading, readBuffer<ShadingParams>(shadingCopy.id(), 1)[0], "ShadingParams (uniform block)");
+  expectSameBytes(core, readBuffer<CoreTextureParams>(coreCopy.id(), 1)[0], "CoreTextureParams (uniform block)");
 
   // std140 uniform → std430 storage copy: both layouts equal the C++ one for these structs.
   std::vector<YarnParams> yarnBack = readBuffer<YarnParams>(copy.id(), 1);

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "common/bcsdf.h"
+#include "common/core_texture.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
 #include "common/yarn_frame.h"
@@ -38,6 +39,8 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SHADING_COS_DROPPED") ftFaultShadingCosDropped = on;
   if (define == "FT_FAULT_SELF_SHADOW_SLICE_RANGE") ftFaultSelfShadowSliceRange = on;
   if (define == "FT_FAULT_SELF_SHADOW_PSI_SIGN") ftFaultSelfShadowPsiSign = on;
+  if (define == "FT_FAULT_CORE_TEXTURE_PRESET_S") ftFaultCoreTexturePresetS = on;
+  if (define == "FT_FAULT_CORE_TEXTURE_TANGENT_SIGN") ftFaultCoreTextureTangentSign = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
