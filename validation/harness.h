@@ -16,6 +16,7 @@
 #include "gpu/fiber_gpu.h"
 #include "gpu/knit_gpu.h"
 #include "gpu/gl_context.h"
+#include "scene/camera.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"
 #include "scene/yarn_preset.h"
@@ -33,6 +34,8 @@ struct HarnessOptions {
   std::filesystem::path reportDir = "fibertwin-report";
   GlBackend backend = GlBackend::Auto;
   FiberOptions fiber;
+  std::vector<std::string> presetOverrides;    // --set name=value, applied to every preset
+  CameraOverride camera;                       // --eye/--target/--fov: the closeup/* cases' camera
   int lodWidth = 640, lodHeight = 480;         // the view the LoD decisions are made for
   float lodThresholdPx = 1.0f;                 // ω^LoD
   int imageWidth = 256, imageHeight = 192;     // report thumbnails
@@ -88,6 +91,7 @@ class ValidationContext {
   std::unique_ptr<BcsdfGpu> bcsdfGpu_;
   YarnModel model_;
   YarnBuffers buffers_;
+  std::vector<YarnPreset> presets_;  // built once; cases keep pointers to them
   double yarnRadius_ = 0.0;
   std::string yarnRadiusSource_;
   std::map<std::string, std::shared_ptr<void>> cache_;
