@@ -403,6 +403,10 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
              false},
   };
   worst += cuspWorst;
+  if (o.camera.any())
+    worst = fmt::format("explicit camera: eye {},{},{} target {},{},{} fov {}°\n", camera.eye.x, camera.eye.y,
+                        camera.eye.z, camera.target.x, camera.target.y, camera.target.z, camera.fovyDegrees) +
+            worst;
   r.details = firstNonFinite.empty() ? worst : firstNonFinite + "\n" + worst;
   r.finish();
   if (o.images && (!r.pass || &preset == ctx.presets().front())) {
