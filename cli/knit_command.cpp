@@ -74,7 +74,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   if (o.solver != "gpu" && o.solver != "cpu")
     throw InputError(fmt::format("--solver: '{}' is neither gpu nor cpu", o.solver));
   validateKnitOptions(o.knit);
-  const YarnPreset& preset = findYarnPreset(o.yarn);
+  const YarnPreset preset = overrideYarnPreset(findYarnPreset(o.yarn), o.presetOverrides);
   checkFiberOptions(preset, o.fiber);
   auto [rest, frames] = loadFrames(o);
   // Every frame's problems before any GL work: bad meshes are rejected first.

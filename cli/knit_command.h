@@ -25,6 +25,7 @@ struct KnitCommandOptions {
   std::filesystem::path image = "knit.png";   // empty: no image
   int width = 1280, height = 960;
   std::string yarn = "cotton1";
+  std::vector<std::string> presetOverrides;    // --set name=value over the yarn preset
   FiberOptions fiber;
   GlBackend backend = GlBackend::Auto;
 };

@@ -87,6 +87,46 @@ glm::vec3 parseVec3(const std::string& s, const char* option) {
   return v;
 }
 
+// A point (may be the origin), finite: --eye and --target.
+glm::vec3 parsePoint(const std::string& s, const char* option) {
+  glm::vec3 v;
+  char tail = 0;
+  if (std::sscanf(s.c_str(), "%f,%f,%f%c", &v.x, &v.y, &v.z, &tail) != 3 || !std::isfinite(v.x) ||
+      !std::isfinite(v.y) || !std::isfinite(v.z))
+    throw ft::InputError(fmt::format("{}: '{}' is not a finite point x,y,z", option, s));
+  return v;
+}
+
+// The explicit camera and the preset overrides, as typed; render, trace and
+// validate share them (knit takes --set only).
+struct CameraText {
+  std::string eye, target, fov;
+};
+void addCameraOptions(CLI::App* app, CameraText& text) {
+  app->add_option("--eye", text.eye, "explicit camera position x,y,z (replaces the --distance view's)");
+  app->add_option("--target", text.target, "explicit point the camera looks at, x,y,z");
+  app->add_option("--fov", text.fov, "explicit vertical field of view in degrees, in (0, 180) (default 40)");
+}
+ft::CameraOverride parseCameraText(const CameraText& text) {
+  ft::CameraOverride c;
+  if (!text.eye.empty()) c.eye = parsePoint(text.eye, "--eye");
+  if (!text.target.empty()) c.target = parsePoint(text.target, "--target");
+  if (!text.fov.empty()) {
+    float f = 0.0f;
+    char tail = 0;
+    if (std::sscanf(text.fov.c_str(), "%f%c", &f, &tail) != 1 || !std::isfinite(f) || !(f > 0.0f && f < 180.0f))
+      throw ft::InputError(fmt::format("--fov: '{}' is not a vertical field of view in (0, 180) degrees", text.fov));
+    c.fovyDegrees = f;
+  }
+  return c;
+}
+void addSetOption(CLI::App* app, std::vector<std::string>& sets) {
+  app->add_option("--set", sets,
+                  "override a yarn preset parameter by its data/yarn-presets.tsv column, name=value (repeatable), "
+                  "e.g. --set ply_num=4")
+      ->allow_extra_args(false);
+}
+
 // For the report: the command line as one could paste it into a shell.
 std::string shellQuote(const std::string& s) {
   if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_=./,:+@%^") ==
@@ -104,6 +144,7 @@ std::string vec3Text(glm::vec3 v) {
 }
 struct ViewOptionText {
   ft::ViewOptions defaults;
+  CameraText camera;
   std::string model, view = vec3Text(defaults.viewDir), light = vec3Text(defaults.lighting.lights[0].direction),
                      irradiance = vec3Text(defaults.lighting.lights[0].irradiance),
                      ambient = vec3Text(defaults.lighting.ambient), diffuse = vec3Text(defaults.lighting.diffuse),
@@ -131,8 +172,11 @@ void addViewOptions(CLI::App* app, ft::ViewOptions& v, ViewOptionText& text) {
   app->add_option("--tonemap", text.tone, "PNG only: aces or clamp")->capture_default_str();
   app->add_option("--view", text.view, "direction from the model towards the camera, x,y,z")->capture_default_str();
   app->add_option("--distance", v.distance,
-                  "frame (whole model), closeup (a yarn segment spans ~60 px), near, mid or far (LoD distances)")
+                  "frame (whole model), closeup (a yarn segment spans 1/16 of the frame height), near, mid or far "
+                  "(LoD distances, exact at 960 px high); the framing does not depend on the resolution")
       ->capture_default_str();
+  addCameraOptions(app, text.camera);
+  addSetOption(app, v.presetOverrides);
   addFiberOptions(app, v.fiber);
 }
 
@@ -154,6 +198,7 @@ void finishViewOptions(ft::ViewOptions& v, const ViewOptionText& text) {
   else if (text.tone == "clamp") v.display.tone = ft::ToneMap::Clamp;
   else throw ft::InputError(fmt::format("--tonemap: '{}' is neither aces nor clamp", text.tone));
   if (!std::isfinite(v.display.exposure)) throw ft::InputError("--exposure: not a finite number");
+  v.camera = parseCameraText(text.camera);
 }
 
 }  // namespace
@@ -178,6 +223,9 @@ int main(int argc, char** argv) {
       ->check(kPositiveInteger);
   validate->add_flag("!--no-images", vo.images, "skip the report thumbnails");
   addFiberOptions(validate, vo.fiber);
+  CameraText validateCamera;
+  addCameraOptions(validate, validateCamera);  // the closeup/* cases' camera
+  addSetOption(validate, vo.presetOverrides);
 
   ft::RenderCommandOptions ro;
   ViewOptionText renderText;
@@ -239,7 +287,8 @@ int main(int argc, char** argv) {
   knit->add_option("--height", ko.height)->capture_default_str()->check(CLI::Range(16, 8192));
   knit->add_option("--yarn", ko.yarn, "yarn preset for the fibers")->capture_default_str();
   knit->add_option("--backend", backend, "GL backend");
-  addFiberOptions(knit, ko.fiber, false);  // the fibers take the knot yarn radius
+  addFiberOptions(knit, ko.fiber, false);
+  addSetOption(knit, ko.presetOverrides);  // the fibers take the knot yarn radius
 
   auto* info = app.add_subcommand("info", "print the GL renderer and its limits");
   info->add_option("--backend", backend, "GL backend");
@@ -261,6 +310,7 @@ int main(int argc, char** argv) {
       if (!modelPath.empty()) vo.model = modelPath;
       for (int i = 0; i < argc; ++i) vo.commandLine += (i ? " " : "") + shellQuote(argv[i]);
       vo.backend = parseBackend(backend);
+      vo.camera = parseCameraText(validateCamera);
       return ft::runValidation(vo, std::cout).allPassed ? 0 : 1;
     }
     if (knit->parsed()) {

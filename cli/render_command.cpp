@@ -46,16 +46,11 @@ PreparedView prepareView(const ViewOptions& o) {
   PreparedView v;
   v.model = o.model ? readBcc(*o.model) : makeDefaultScene();
   v.buffers = buildYarnBuffers(v.model);
-  v.preset = &findYarnPreset(o.yarn);
+  v.preset = overrideYarnPreset(findYarnPreset(o.yarn), o.presetOverrides);
   v.shading = makeShadingParams(o.lighting);  // bad lighting options fail before any work
-  v.fibers = fitFibers(*v.preset, v.model, o.fiber);
-  const YarnParams& params = v.fibers.params;
-  if (o.distance == "frame") v.camera = frameModel(v.model, o.viewDir, o.width, o.height);
-  else if (o.distance == "near") v.camera = lodCamera(v.model, params, LodDistance::Near, 1.0f, o.width, o.height);
-  else if (o.distance == "mid") v.camera = lodCamera(v.model, params, LodDistance::Mid, 1.0f, o.width, o.height);
-  else if (o.distance == "far") v.camera = lodCamera(v.model, params, LodDistance::Far, 1.0f, o.width, o.height);
-  else if (o.distance == "closeup") v.camera = closeupCamera(v.model, o.width, o.height);
-  else throw InputError(fmt::format("--distance: '{}' is not frame, closeup, near, mid or far", o.distance));
+  v.fibers = fitFibers(v.preset, v.model, o.fiber);
+  v.camera = applyCameraOverride(namedViewCamera(o.distance, v.model, v.fibers.params, o.viewDir, o.width, o.height),
+                                 o.camera, v.model);
   return v;
 }
 
@@ -78,7 +73,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
   if (o.path != "compute" && o.path != "tessellation")
     throw InputError(fmt::format("--path: '{}' is neither compute nor tessellation", o.path));
   const PreparedView v = prepareView(o.view);
-  log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", v.preset->name,
+  log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", v.preset.name,
                      v.fibers.fit.scale, v.fibers.fit.radius, v.fibers.fit.source, o.view.lighting.fabric,
                      o.preview ? "preview" : o.view.lighting.model);
   auto ctx = GlContext::create(o.backend);
@@ -122,7 +117,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
 
 int runTraceCommand(const TraceCommandOptions& o, std::ostream& log) {
   const PreparedView v = prepareView(o.view);
-  log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", v.preset->name,
+  log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", v.preset.name,
                      v.fibers.fit.scale, v.fibers.fit.radius, v.fibers.fit.source, o.view.lighting.fabric,
                      o.view.lighting.model);
   const auto t0 = std::chrono::steady_clock::now();

@@ -27,7 +27,9 @@ struct ViewOptions {
   FiberOptions fiber;
   int width = 1280, height = 960;
   glm::vec3 viewDir{0.3f, 0.5f, 1.0f};         // from the model towards the camera
-  std::string distance = "frame";              // frame, closeup, near, mid, far
+  std::string distance = "frame";              // frame, closeup, near, mid, far (scene/camera.h: namedViewCamera)
+  CameraOverride camera;                       // --eye, --target, --fov over the named view
+  std::vector<std::string> presetOverrides;    // --set name=value over the yarn preset
   Lighting lighting;
   std::filesystem::path out = "fibertwin.exr"; // .exr: EXR + PNG beside it; .png: PNG only
   DisplayMapping display;
@@ -54,7 +56,7 @@ struct TraceCommandOptions {
 struct PreparedView {
   YarnModel model;
   YarnBuffers buffers;
-  const YarnPreset* preset = nullptr;
+  YarnPreset preset;                           // with the --set overrides
   FittedFibers fibers;
   Camera camera;
   ShadingParams shading{};

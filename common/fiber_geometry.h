@@ -151,7 +151,9 @@ FT_FUNC FiberPeriod ftFiberPeriod(YarnParams p, TwistRates r, uint yarn, uint pl
   fp.type = u < p.loopProbability                          ? FT_FIBER_LOOP
             : u < p.loopProbability + p.hairProbability ? FT_FIBER_HAIR
                                                         : FT_FIBER_MIGRATION;
-  fp.hairAtEnd = r0.y & 1u;
+  // The top bit: pcg4d's low bits are correlated between neighbouring
+  // periods (ρ = 0.26 for bit 0 of consecutive periods; fiber_math_test).
+  fp.hairAtEnd = r0.y >> 31u;
   fp.loopPeak = abs(ftNormal(r0.z, r0.w, p.loopR1Mu, p.loopR1Sigma));
   float ze = abs(ftNormal(r0.z, r0.w, p.hairZeMu, p.hairZeSigma));
   // Cell length 1 / (migration · cells); the hair keeps ≥ 5 % of the cell to rejoin.

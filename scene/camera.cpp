@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <limits>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
+
+#include "scene/input_error.h"
 
 namespace ft {
 
@@ -135,6 +139,69 @@ Camera lodCamera(const YarnModel& model, const YarnParams& params, LodDistance d
   const float radius = 0.5f * glm::length(b.hi - b.lo);
   c.zNear = d * 0.01f;
   c.zFar = d + 2.0f * radius + 1.0f;
+  return c;
+}
+
+}  // namespace ft
+
+namespace ft {
+
+Camera namedViewCamera(std::string_view distance, const YarnModel& model, const YarnParams& params,
+                       glm::vec3 viewDir, int width, int height) {
+  // Made at kNamedViewHeight with the requested aspect ratio, then resized.
+  const int h = kNamedViewHeight;
+  const int w = std::max(1, static_cast<int>(std::lround(double(width) * h / std::max(height, 1))));
+  Camera c;
+  if (distance == "frame") c = frameModel(model, viewDir, w, h);
+  else if (distance == "near") c = lodCamera(model, params, LodDistance::Near, 1.0f, w, h);
+  else if (distance == "mid") c = lodCamera(model, params, LodDistance::Mid, 1.0f, w, h);
+  else if (distance == "far") c = lodCamera(model, params, LodDistance::Far, 1.0f, w, h);
+  else if (distance == "closeup") c = closeupCamera(model, w, h, kCloseupSegmentPixelsAtNamedHeight);
+  else
+    throw InputError("--distance: '" + std::string(distance) + "' is not frame, closeup, near, mid or far");
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+namespace {
+std::string pointText(glm::vec3 v) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "%g,%g,%g", v.x, v.y, v.z);
+  return buf;
+}
+}  // namespace
+
+Camera applyCameraOverride(Camera c, const CameraOverride& o, const YarnModel& model) {
+  if (!o.any()) return c;
+  auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (o.eye && !finite(*o.eye)) throw InputError("--eye: '" + pointText(*o.eye) + "' is not a finite point x,y,z");
+  if (o.target && !finite(*o.target))
+    throw InputError("--target: '" + pointText(*o.target) + "' is not a finite point x,y,z");
+  if (o.fovyDegrees && !(std::isfinite(*o.fovyDegrees) && *o.fovyDegrees > 0.0f && *o.fovyDegrees < 180.0f)) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", *o.fovyDegrees);
+    throw InputError(std::string("--fov: ") + buf + " is not a vertical field of view in (0, 180) degrees");
+  }
+  if (o.eye) c.eye = *o.eye;
+  if (o.target) c.target = *o.target;
+  if (o.fovyDegrees) c.fovyDegrees = *o.fovyDegrees;
+  const glm::dvec3 dir = glm::dvec3(c.target) - glm::dvec3(c.eye);
+  const double len = glm::length(dir);
+  // An eye within float rounding of the target gives lookAt no direction.
+  if (!(len > 1e-6 * std::max({1.0, glm::length(glm::dvec3(c.eye)), glm::length(glm::dvec3(c.target))})))
+    throw InputError("--eye " + pointText(c.eye) + " and --target " + pointText(c.target) +
+                     ": the eye is at the target, so there is no view direction");
+  c.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  if (std::abs(glm::dot(dir / len, glm::dvec3(c.up))) > 0.99) c.up = glm::vec3(0.0f, 0.0f, 1.0f);
+  // Planes around the model's bounding sphere (control points, plus half
+  // again for the fibers around them); the near plane never closer than
+  // 1e-4 of the far one (24-bit depth).
+  const Bounds b = modelBounds(model);
+  const double radius = 1.5 * std::max(0.5 * glm::length(glm::dvec3(b.hi - b.lo)), 1e-3);
+  const double d = glm::length(glm::dvec3(c.eye) - 0.5 * glm::dvec3(b.lo + b.hi));
+  c.zFar = static_cast<float>(d + radius);
+  c.zNear = static_cast<float>(std::max(d - radius, 1e-4 * c.zFar));
   return c;
 }
 

@@ -1,6 +1,7 @@
 // camera.h — a pinhole camera and the ViewParams block it yields, plus the
 // three standard LoD distances the harness and benchmarks use.
 #pragma once
+#include <optional>
 #include <string_view>
 
 #include "common/view_params.h"
@@ -51,5 +52,30 @@ Camera closeupCamera(const YarnModel& model, int width, int height, float segmen
 const char* lodDistanceName(LodDistance d);
 Camera lodCamera(const YarnModel& model, const YarnParams& params, LodDistance distance, float lodThresholdPx,
                  int width, int height);
+
+// The named views of `render` and `trace` (--distance frame, closeup, near,
+// mid, far) are made at this frame height and then given the requested size,
+// so the framing does not depend on the resolution (only the aspect ratio
+// widens or narrows the view). The LoD branch each LoD distance names holds
+// exactly at this height (the default 1280x960); at other heights the same
+// picture is drawn with the LoD that its pixels ask for.
+inline constexpr int kNamedViewHeight = 960;
+// Close-up of the named views: a typical segment spans 60 px of 960, 1/16 of
+// the frame height.
+inline constexpr float kCloseupSegmentPixelsAtNamedHeight = 60.0f;
+// InputError (naming --distance) for an unknown name.
+Camera namedViewCamera(std::string_view distance, const YarnModel& model, const YarnParams& params,
+                       glm::vec3 viewDir, int width, int height);
+
+// An explicit camera (--eye, --target, --fov): each given value replaces the
+// base camera's; near and far planes then follow the model's bounds.
+struct CameraOverride {
+  std::optional<glm::vec3> eye, target;
+  std::optional<float> fovyDegrees;
+  bool any() const { return eye || target || fovyDegrees; }
+};
+// InputError naming the option and value for a non-finite point, an eye at
+// the target, or a field of view outside (0, 180) degrees.
+Camera applyCameraOverride(Camera base, const CameraOverride& override, const YarnModel& model);
 
 }  // namespace ft

@@ -138,6 +138,53 @@ bool validName(std::string_view s) {
   return true;
 }
 
+// Parses `v` into the field `col` names and applies the column's range
+// check; the reason on failure (the caller names the source and column).
+std::optional<std::string> setField(YarnPreset& p, const Column& col, std::string_view v) {
+  switch (col.kind) {
+    case Kind::Name:
+      if (!validName(v)) return "preset names use letters, digits, '_', '-', '.'";
+      p.name = std::string(v);
+      return std::nullopt;
+    case Kind::Bool: {
+      const auto b = parseWholeInt(v);
+      if (!b || (*b != 0 && *b != 1)) return "expected 0 or 1";
+      (std::string_view(col.name) == "yarn_clock_wise" ? p.yarnClockWise : p.fiberClockWise) = *b == 1;
+      return std::nullopt;
+    }
+    case Kind::Int: {
+      const auto n = parseWholeInt(v);
+      if (!n) return "expected an integer";
+      const bool ply = col.range == Range::PlyNum;
+      const long long hi = ply ? 8 : 4096;
+      if (*n < 1 || *n > hi) return "out of range 1.." + std::to_string(hi);
+      (ply ? p.plyNum : p.fiberNum) = static_cast<int>(*n);
+      return std::nullopt;
+    }
+    case Kind::Real: {
+      const auto x = parseWholeReal(v);
+      if (!x) return "expected a number";
+      if (!std::isfinite(*x)) return "must be finite";
+      if (col.range == Range::Positive && !(*x > 0.0)) return "must be > 0";
+      if (col.range == Range::NonNeg && !(*x >= 0.0)) return "must be >= 0";
+      if (col.range == Range::Epsilon && !(*x >= 0.0 && *x <= 0.5))
+        return "must be in [0, 0.5] so that p(R) stays in [0, 1]";
+      *realField(p, col.name) = *x;
+      return std::nullopt;
+    }
+  }
+  return "unknown column kind";
+}
+
+// Checks that span two columns: the column that breaks one and why.
+template <class FieldText>
+std::optional<std::pair<std::string, std::string>> crossColumnError(const YarnPreset& p, FieldText fieldText) {
+  if (p.rhoMin > p.rhoMax) return std::pair<std::string, std::string>{"rho_min", "must be <= rho_max (" + std::string(fieldText("rho_max")) + ")"};
+  if (p.ellipseShort > p.ellipseLong)
+    return std::pair<std::string, std::string>{"ellipse_short", "must be <= ellipse_long (" + std::string(fieldText("ellipse_long")) + ")"};
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::vector<YarnPreset> parseYarnPresets(std::string_view text, std::string_view sourceName) {
@@ -191,43 +238,12 @@ std::vector<YarnPreset> parseYarnPresets(std::string_view text, std::string_view
     for (size_t i = 0; i < fields.size(); ++i) {
       const Column& col = kColumns[columnOf[i]];
       const std::string_view v = fields[i];
-      switch (col.kind) {
-        case Kind::Name:
-          if (!validName(v))
-            err.field(lineNo, col.name, v, "preset names use letters, digits, '_', '-', '.'");
-          for (const YarnPreset& q : presets) {
-            if (q.name == v) err.field(lineNo, col.name, v, "duplicate preset name");
-          }
-          p.name = std::string(v);
-          break;
-        case Kind::Bool: {
-          const auto b = parseWholeInt(v);
-          if (!b || (*b != 0 && *b != 1)) err.field(lineNo, col.name, v, "expected 0 or 1");
-          (std::string_view(col.name) == "yarn_clock_wise" ? p.yarnClockWise : p.fiberClockWise) = *b == 1;
-          break;
-        }
-        case Kind::Int: {
-          const auto n = parseWholeInt(v);
-          if (!n) err.field(lineNo, col.name, v, "expected an integer");
-          const bool ply = col.range == Range::PlyNum;
-          const long long hi = ply ? 8 : 4096;
-          if (*n < 1 || *n > hi) err.field(lineNo, col.name, v, "out of range 1.." + std::to_string(hi));
-          (ply ? p.plyNum : p.fiberNum) = static_cast<int>(*n);
-          break;
-        }
-        case Kind::Real: {
-          const auto x = parseWholeReal(v);
-          if (!x) err.field(lineNo, col.name, v, "expected a number");
-          if (!std::isfinite(*x)) err.field(lineNo, col.name, v, "must be finite");
-          if (col.range == Range::Positive && !(*x > 0.0)) err.field(lineNo, col.name, v, "must be > 0");
-          if (col.range == Range::NonNeg && !(*x >= 0.0)) err.field(lineNo, col.name, v, "must be >= 0");
-          if (col.range == Range::Epsilon && !(*x >= 0.0 && *x <= 0.5)) {
-            err.field(lineNo, col.name, v, "must be in [0, 0.5] so that p(R) stays in [0, 1]");
-          }
-          *realField(p, col.name) = *x;
-          break;
+      if (col.kind == Kind::Name) {
+        for (const YarnPreset& q : presets) {
+          if (q.name == v) err.field(lineNo, col.name, v, "duplicate preset name");
         }
       }
+      if (auto why = setField(p, col, v)) err.field(lineNo, col.name, v, *why);
     }
     // Cross-column checks, reported against the column that breaks them.
     auto fieldText = [&](std::string_view name) {
@@ -236,14 +252,7 @@ std::vector<YarnPreset> parseYarnPresets(std::string_view text, std::string_view
       }
       return std::string_view{};
     };
-    if (p.rhoMin > p.rhoMax) {
-      err.field(lineNo, "rho_min", fieldText("rho_min"),
-                "must be <= rho_max (" + std::string(fieldText("rho_max")) + ")");
-    }
-    if (p.ellipseShort > p.ellipseLong) {
-      err.field(lineNo, "ellipse_short", fieldText("ellipse_short"),
-                "must be <= ellipse_long (" + std::string(fieldText("ellipse_long")) + ")");
-    }
+    if (auto broken = crossColumnError(p, fieldText)) err.field(lineNo, broken->first, fieldText(broken->first), broken->second);
     presets.push_back(std::move(p));
   }
   return presets;
@@ -264,6 +273,43 @@ const YarnPreset& findYarnPreset(std::string_view name) {
   }
   throw InputError("built-in yarn-presets.tsv: unknown yarn preset '" + std::string(name) +
                    "' (known: " + known + ")");
+}
+
+YarnPreset overrideYarnPreset(const YarnPreset& base, const std::vector<std::string>& assignments) {
+  YarnPreset p = base;
+  std::string names;
+  for (const Column& c : kColumns)
+    if (c.kind != Kind::Name) names += (names.empty() ? "" : ", ") + std::string(c.name);
+  // The text each column was last set from, for the cross-column messages.
+  std::vector<std::pair<std::string, std::string>> given;
+  for (const std::string& a : assignments) {
+    const size_t eq = a.find('=');
+    if (eq == std::string::npos)
+      throw InputError("--set '" + printable(a) + "': expected name=value (a column of yarn-presets.tsv)");
+    const std::string_view name = trimField(std::string_view(a).substr(0, eq));
+    const std::string_view value = trimField(std::string_view(a).substr(eq + 1));
+    const Column* col = nullptr;
+    for (const Column& c : kColumns)
+      if (name == c.name) col = &c;
+    if (!col || col->kind == Kind::Name)
+      throw InputError("--set '" + printable(a) + "': unknown preset parameter '" + printable(name) +
+                       "' (known: " + names + ")");
+    if (auto why = setField(p, *col, value))
+      throw InputError("--set '" + printable(a) + "': " + col->name + " value '" + printable(value) + "': " + *why);
+    given.emplace_back(col->name, std::string(value));
+  }
+  auto fieldText = [&](std::string_view column) {
+    for (auto it = given.rbegin(); it != given.rend(); ++it)
+      if (it->first == column) return it->second;
+    std::ostringstream s;  // not overridden: the preset's own value
+    s << (column == "rho_max" ? p.rhoMax : column == "rho_min" ? p.rhoMin
+          : column == "ellipse_long" ? p.ellipseLong : p.ellipseShort);
+    return s.str();
+  };
+  if (auto broken = crossColumnError(p, fieldText))
+    throw InputError("--set: " + broken->first + " value '" + fieldText(broken->first) + "' of preset " + p.name +
+                     ": " + broken->second);
+  return p;
 }
 
 }  // namespace ft

@@ -51,4 +51,10 @@ const std::vector<YarnPreset>& builtinYarnPresets();
 // Looks a built-in preset up by name; InputError lists the known names.
 const YarnPreset& findYarnPreset(std::string_view name);
 
+// `base` with columns overridden from "name=value" texts (`--set ply_num=4`;
+// the names are the columns of data/yarn-presets.tsv, later ones win), parsed
+// and range-checked exactly as parseYarnPresets does, cross-column checks
+// included. InputError naming --set, the parameter and the value.
+YarnPreset overrideYarnPreset(const YarnPreset& base, const std::vector<std::string>& assignments);
+
 }  // namespace ft

@@ -298,9 +298,12 @@ def run(cmd, timeout, env=None, cwd=None, log=None):
 
 
 TARGETS = ["fibertwin", "fiber_math_test", "fiber_reference_test", "knit_solver_test", "oracle_fiber_test",
-           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "self_shadow_test", "core_texture_test"]
-# Input-parsing sources have unit tests of their own.
-SCENE_UNITS = {"scene/bcc_reader.cpp": "bcc_reader_test", "scene/yarn_preset.cpp": "yarn_preset_test"}
+           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "camera_test", "self_shadow_test",
+           "core_texture_test"]
+# Input-parsing sources have unit tests of their own; so has the camera
+# (named views independent of the resolution, the explicit camera's checks).
+SCENE_UNITS = {"scene/bcc_reader.cpp": "bcc_reader_test", "scene/yarn_preset.cpp": "yarn_preset_test",
+               "scene/camera.cpp": "camera_test"}
 
 
 def prepare_copy(args, log):

@@ -227,6 +227,23 @@ run_case "render --tonemap nosuch" 2 "--tonemap" "nosuch" -- render --tonemap no
 run_case "render --out x.jpg" 2 "--out" "x.jpg" -- render --out "$TMP/x.jpg"
 run_case "trace --spp 0" 2 "--spp" -- trace --spp 0 --out "$TMP/x.png"
 run_case "trace --view 0,0,0" 2 "--view" -- trace --view 0,0,0 --out "$TMP/x.png"
+# Explicit camera and preset overrides (issue 14, deliverable 10).
+run_case "render --eye nan,0,0" 2 "--eye" "nan,0,0" "finite" -- render --eye nan,0,0 --out "$TMP/x.png"
+run_case "render --eye 1,2" 2 "--eye" "'1,2'" -- render --eye 1,2 --out "$TMP/x.png"
+run_case "render --eye == --target" 2 "--eye -1,2,3" "--target -1,2,3" "at the target" -- \
+  render --eye -1,2,3 --target -1,2,3 --out "$TMP/x.png"
+run_case "render --fov 0" 2 "--fov" "'0'" "(0, 180)" -- render --fov 0 --out "$TMP/x.png"
+run_case "render --fov 180" 2 "--fov" "'180'" -- render --fov 180 --out "$TMP/x.png"
+run_case "trace --fov nan" 2 "--fov" "'nan'" -- trace --fov nan --out "$TMP/x.png"
+run_case "trace --fov -5" 2 "--fov" "'-5'" -- trace --fov -5 --out "$TMP/x.png"
+run_case "trace --target inf,0,0" 2 "--target" "inf,0,0" -- trace --target inf,0,0 --out "$TMP/x.png"
+run_case "render --set ply_num=9" 2 "--set" "ply_num" "'9'" "1..8" -- render --set ply_num=9 --out "$TMP/x.png"
+run_case "render --set nosuch=1" 2 "--set" "nosuch" "ply_num" -- render --set nosuch=1 --out "$TMP/x.png"
+run_case "render --set ply_num" 2 "--set" "name=value" -- render --set ply_num --out "$TMP/x.png"
+run_case "render --set alpha=nan" 2 "--set" "alpha" "'nan'" -- render --set alpha=nan --out "$TMP/x.png"
+run_case "trace --set rho_min=2" 2 "--set" "rho_min" "'2'" "rho_max" -- trace --set rho_min=2 --out "$TMP/x.png"
+run_case "trace --set ply_num=4 --set fiber_num=0" 2 "fiber_num" "'0'" -- \
+  trace --set ply_num=4 --set fiber_num=0 --out "$TMP/x.png"
 expect_absent "render on bad options (no image)" "$TMP/x.png"
 
 # Known gap: `validate` checks --subdivisions / --fibers-per-ply inside each
@@ -238,6 +255,11 @@ run_case "validate --subdivisions 0" 2 're:--subdivisions.*\b0\b' -- \
   validate --subdivisions 0 --no-images --report "$TMP/report"
 run_case "validate --fibers-per-ply 9999" 2 "--fibers-per-ply" "9999" -- \
   validate --fibers-per-ply 9999 --no-images --report "$TMP/report"
+run_case "validate --set epsilon=0.7" 2 "--set" "epsilon" "0.7" -- \
+  validate --set epsilon=0.7 --no-images --report "$TMP/report"
+run_case "validate --eye == --target" 2 "--eye 0,0,1" "at the target" -- \
+  validate --eye 0,0,1 --target 0,0,1 --no-images --report "$TMP/report"
+run_case "validate --fov 200" 2 "--fov" "'200'" -- validate --fov 200 --no-images --report "$TMP/report"
 rm -rf "$TMP/report"
 run_case "render --light nan,1,1" 2 "--light" -- render --light nan,1,1 --out "$TMP/x.png"
 rm -f "$TMP/x.png"
@@ -250,6 +272,7 @@ run_case "knit --deform nosuch" 2 "nosuch" -- knit --rows 2 --cols 2 --deform no
 run_case "knit --beta 2" 2 "--beta" -- knit --rows 2 --cols 2 --beta 2 --no-image --out "$TMP/k.bcc"
 run_case "knit --yarn-radius -1" 2 "--yarn-radius" -- knit --rows 2 --cols 2 --yarn-radius -1 --no-image --out "$TMP/k.bcc"
 run_case "knit --iterations 99" 2 "--iterations" -- knit --rows 2 --cols 2 --iterations 99 --no-image --out "$TMP/k.bcc"
+run_case "knit --set fiber_num=0" 2 "--set" "fiber_num" "'0'" -- knit --rows 2 --cols 2 --set fiber_num=0 --no-image --out "$TMP/k.bcc"
 run_case "knit --pattern nosuch" 2 "--pattern" "nosuch" -- knit --pattern nosuch --no-image --out "$TMP/k.bcc"
 run_case "knit --solver nosuch" 2 "--solver" "nosuch" -- knit --rows 2 --cols 2 --solver nosuch --no-image --out "$TMP/k.bcc"
 run_case "knit --frames 0" 2 "--frames" -- knit --rows 2 --cols 2 --frames 0 --no-image --out "$TMP/k.bcc"

@@ -119,6 +119,27 @@ inline YarnModel edgeCorpus() {
   return m;
 }
 
+// A helix with an exact back-track in the middle (issue 14, deliverable 11):
+// h0 .. h10, h9, h11 .. h20, so p[11] == p[9]: the curve turns back at knot
+// 10 (zero tangent) and again, nearly, at knot 11 (from h9 on to h11). Those
+// are corners of the curve itself, which closeup/* must report apart while
+// staying strict everywhere else; the close-up camera looks at the control
+// point nearest the model centre, next to them.
+inline YarnModel helixCusp() {
+  YarnModel m;
+  m.name = "helix-cusp";
+  std::vector<glm::vec3> h;
+  for (int i = 0; i <= 20; ++i) {
+    const float a = 0.7f * float(i);
+    h.push_back(glm::vec3(0.15f * std::cos(a), 0.15f * std::sin(a), 0.06f * float(i)));
+  }
+  std::vector<glm::vec3> p(h.begin(), h.begin() + 11);
+  p.push_back(h[9]);
+  p.insert(p.end(), h.begin() + 11, h.end());
+  m.curves.push_back(openCurve(p));
+  return m;
+}
+
 // Segments a million units long (and short ones next to them): a separate
 // model, since its scale sets the position tolerance of the whole model.
 inline YarnModel longSegments() {

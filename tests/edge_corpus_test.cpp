@@ -42,6 +42,7 @@ struct CorpusFile {
 const CorpusFile kFiles[] = {
     {"tests/edge_corpus/edges.bcc", test::edgeCorpus},
     {"tests/edge_corpus/long-segments.bcc", test::longSegments},
+    {"tests/edge_corpus/helix-cusp.bcc", test::helixCusp},
     {"tests/fuzz_corpus/bcc/bad-huge-coordinate.bcc", test::hugeCoordinate},
     {"tests/fuzz_corpus/bcc/bad-tiny-spacing.bcc", test::tinySpacing},
     {"tests/fuzz_corpus/bcc/bad-one-point-curve.bcc", test::onePointCurve},

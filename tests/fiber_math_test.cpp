@@ -198,6 +198,153 @@ TEST(FiberGeometry, FibersAreContinuousAcrossSegmentsAndSeams) {
   }
 }
 
+// Closed curves round each rate to the NEAREST whole number of turns over
+// the loop (fiber_geometry.h): the pitch changes by at most half a turn. The
+// seam test above holds for any whole number (rounding down too), so this
+// one checks the number itself against round() written here, over loop
+// lengths whose fractional turn count sweeps [0, 1) (issue 14, deliverable 12).
+TEST(FiberGeometry, ClosedCurvesRoundTwistToTheNearestWholeTurn) {
+  const YarnParams p = paramsFor("cotton1");
+  int checked = 0, roundedUp = 0;
+  for (int i = 0; i < 200; ++i) {
+    CurveInfo c{};
+    c.closed = 1u;
+    c.totalLength = 3.0f + 0.0137f * float(i);
+    const TwistRates r = ftTwistRates(p, c);
+    const double L = c.totalLength;
+    const struct { const char* what; double rate, rounded; } rates[] = {
+        {"ply", p.plyTurnsPerLength, r.ply},
+        {"fiber", p.fiberTurnsPerLength, r.fiber},
+        {"migration", double(p.fiberTurnsPerLength) * p.migrationS, r.migration}};
+    for (const auto& x : rates) {
+      const double expected = std::max(1.0, std::round(double(float(x.rate)) * L));
+      // 1e-5 turns: one float rounding of turns / L times L.
+      EXPECT_NEAR(x.rounded * L, expected, 1e-5 * expected) << x.what << " over loop length " << L;
+      roundedUp += expected > x.rate * L ? 1 : 0;
+      ++checked;
+    }
+    EXPECT_EQ(r.migrationPeriods, uint32_t(std::max(1.0, std::round(double(float(rates[2].rate)) * L))))
+        << "loop length " << L;
+  }
+  EXPECT_GT(roundedUp, checked / 4) << "the sweep must include loops whose turn count rounds up";
+  // An open curve keeps the preset's rates.
+  CurveInfo open{};
+  open.totalLength = 5.0f;
+  const TwistRates r = ftTwistRates(p, open);
+  EXPECT_EQ(r.ply, p.plyTurnsPerLength);
+  EXPECT_EQ(r.migrationPeriods, 0u);
+}
+
+// The random draws of one flyaway cell are independent of each other, of
+// the neighbouring period and of the neighbouring fiber (rng.h: one stream
+// per draw). Each normal deviate is recovered from the cell (means far from 0
+// so abs() never folds), and every pair of features from different draws —
+// deviates, their squares (a uniform reused inside Box-Muller shows there),
+// the type and free-end bits — must be uncorrelated: |ρ| < 5/√N, by chance
+// with probability < 1e-6 per pair (issue 14, deliverable 12).
+TEST(FiberGeometry, PerPeriodRandomDrawsAreIndependent) {
+  YarnParams p = paramsFor("cotton1");
+  p.loopProbability = 0.0f;
+  p.hairProbability = 0.5f;
+  p.flyawayCells = 1u;
+  const TwistRates r{1.0f, 1.0f, 1.0f, 0u};
+  p.hairZeMu = 0.4f, p.hairZeSigma = 0.1f;  // span = ze · migration · cells stays inside (1e-3, 0.95)
+  p.hairR0Mu = p.hairReMu = p.hairPeMu = 5.0f;
+  p.hairR0Sigma = p.hairReSigma = p.hairPeSigma = 1.0f;
+  const int periods = 8000, fibers = 4;
+  // Per cell: the four deviates (draw), their squares, type and end bits.
+  struct Cell { double z[4]; double hair, atEnd; };
+  std::vector<Cell> cells(size_t(periods) * fibers);
+  for (int f = 0; f < fibers; ++f)
+    for (int k = 0; k < periods; ++k) {
+      const FiberPeriod fp = ftFiberPeriod(p, r, 3u, 1u, uint32_t(f + 1), uint32_t(k));
+      Cell& c = cells[size_t(f) * periods + k];
+      c.z[0] = (fp.hairSpan - p.hairZeMu) / p.hairZeSigma;
+      c.z[1] = fp.hairRoot - p.hairR0Mu;
+      c.z[2] = fp.hairEnd - fp.hairRoot - p.hairReMu;
+      c.z[3] = fp.hairAngle - p.hairPeMu;
+      c.hair = fp.type == FT_FIBER_HAIR ? 1.0 : 0.0;
+      c.atEnd = fp.hairAtEnd;
+    }
+  // Feature f of a cell and the draw it comes from (pairs of one draw are skipped).
+  const char* names[10] = {"ze", "r0", "re", "pe", "ze²", "r0²", "re²", "pe²", "type", "at-end"};
+  const int draw[10] = {0, 1, 2, 3, 0, 1, 2, 3, 4, 5};
+  auto feature = [](const Cell& c, int f) {
+    return f < 4 ? c.z[f] : f < 8 ? c.z[f - 4] * c.z[f - 4] : f == 8 ? c.hair : c.atEnd;
+  };
+  auto correlation = [&](auto pairOf, size_t count, int fa, int fb) {
+    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+    for (size_t i = 0; i < count; ++i) {
+      const auto [a, b] = pairOf(i);
+      const double x = feature(*a, fa), y = feature(*b, fb);
+      sa += x, sb += y, saa += x * x, sbb += y * y, sab += x * y;
+    }
+    const double n = double(count), cov = sab / n - sa / n * sb / n;
+    return cov / std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n));
+  };
+  const size_t n = cells.size();
+  const double limit = 5.0 / std::sqrt(double(periods * (fibers - 1)));
+  for (int fa = 0; fa < 10; ++fa)
+    for (int fb = 0; fb < 10; ++fb) {
+      // Same cell, different draws.
+      if (draw[fa] < draw[fb]) {
+        const double rho = correlation([&](size_t i) { return std::pair{&cells[i], &cells[i]}; }, n, fa, fb);
+        EXPECT_LT(std::abs(rho), 5.0 / std::sqrt(double(n))) << names[fa] << " vs " << names[fb] << " in one cell";
+      }
+      // The next period of the same fiber, and the same period of the next fiber: any two features.
+      const double rhoPeriod = correlation(
+          [&](size_t i) {
+            const size_t f = i / (periods - 1), k = i % (periods - 1);
+            return std::pair{&cells[f * periods + k], &cells[f * periods + k + 1]};
+          },
+          size_t(fibers) * (periods - 1), fa, fb);
+      EXPECT_LT(std::abs(rhoPeriod), limit) << names[fa] << " vs the next period's " << names[fb];
+      const double rhoFiber = correlation(
+          [&](size_t i) { return std::pair{&cells[i], &cells[i + periods]}; }, size_t(fibers - 1) * periods, fa, fb);
+      EXPECT_LT(std::abs(rhoFiber), limit) << names[fa] << " vs the next fiber's " << names[fb];
+    }
+  // The type draw still follows its probability (the features are live).
+  double hairs = 0;
+  for (const Cell& c : cells) hairs += c.hair;
+  EXPECT_NEAR(hairs / double(n), 0.5, 5.0 * 0.5 / std::sqrt(double(n)));
+}
+
+// The frustum test keeps a segment unless ALL four Bézier points lie more than
+// the bound radius behind one plane (lod.h). Built here plane by plane and
+// point by point: three points far outside, the fourth just inside the margin
+// band (kept) or just beyond it (culled) — so a margin dropped or changed for
+// any single point shows (issue 14, deliverable 12).
+TEST(Lod, CullingMarginHoldsForEachBezierPointAndPlane) {
+  Camera cam;
+  cam.eye = {0.0f, 0.0f, 5.0f};
+  cam.target = {0.0f, 0.0f, 0.0f};
+  cam.zNear = 1.0f;
+  cam.zFar = 9.0f;
+  const ViewParams v = makeViewParams(cam, 1.0f, false, true);
+  const float margin = 0.05f;
+  const glm::vec3 inside(0.0f, 0.0f, 0.0f);  // depth 5, the frustum's middle
+  int kept = 0, culled = 0;
+  for (int plane = 0; plane < 6; ++plane) {
+    const glm::vec3 n = glm::vec3(v.frustumPlanes[plane]);
+    const float w = v.frustumPlanes[plane].w;
+    // The point at signed distance `d` from the plane, moved from `inside` along its normal.
+    auto at = [&](float d) { return inside + n * (d - (glm::dot(n, inside) + w)); };
+    for (int k = 0; k < 4; ++k) {
+      for (float near : {-0.5f * margin, -0.9f * margin, -1.1f * margin, -1.5f * margin}) {
+        YarnSegment seg{};
+        glm::vec4* b[4] = {&seg.b0, &seg.b1, &seg.b2, &seg.b3};
+        for (int j = 0; j < 4; ++j) *b[j] = glm::vec4(at(j == k ? near : -3.0f * margin), 1.0f);
+        const bool expectCulled = near < -margin;
+        EXPECT_EQ(ftSegmentOutsideFrustum(v, seg, margin), expectCulled)
+            << "plane " << plane << ", Bézier point " << k << " at " << near / margin << " margins";
+        (expectCulled ? culled : kept) += 1;
+      }
+    }
+  }
+  EXPECT_EQ(kept, 48);
+  EXPECT_EQ(culled, 48);
+}
+
 // Every fiber point stays within boundRadius of the yarn centre curve (the
 // frustum test relies on it), for all presets and all fiber types.
 TEST(FiberGeometry, FibersStayWithinTheBoundRadius) {

@@ -7,6 +7,8 @@
 #include <numeric>
 
 #include "knit/knit_problem.h"
+#include "knit/knit_solver.h"
+#include "reference/fiber_reference.h"
 #include "reference/knit_reference.h"
 #include "scene/input_error.h"
 
@@ -243,6 +245,85 @@ TEST(KnitYarns, RowsAreContinuousAndCoverEveryTilePointOnce) {
       EXPECT_LT(glm::length(sol.worldPoints[y.points[i + 1]] - sol.worldPoints[y.points[i]]), 0.4) << i;
   const YarnModel m = knitYarnModel(s, sol.worldPoints, true);
   EXPECT_EQ(m.curves[0].points.size(), size_t(14 * cols - 1) * FT_KNIT_UPSAMPLE + 1);
+}
+
+// The knit up-sampling (§5.2) must be the curve the fiber side draws through
+// the same points: the BCC of `knit` (no up-sampling) loaded as Catmull-Rom
+// segments (common/yarn_curve.h, ends reflected) evaluated at t = k/U gives
+// the up-sampled vertices; open yarns start and end at their end points; and
+// knitCatmullRom itself interpolates p1, p2 with tangents (p2 - p0)/2,
+// (p3 - p1)/2 (checked here by finite differences). Issue 14, deliverable 12.
+TEST(KnitYarns, UpsamplingIsTheFiberSidesCatmullRomThroughTheEndPoints) {
+  const glm::dvec3 p0(0.1, 0.3, -0.2), p1(1.0, 0.0, 0.4), p2(1.7, 0.9, 0.1), p3(2.0, 2.1, -0.5);
+  EXPECT_LT(glm::length(knit64::knitCatmullRom(p0, p1, p2, p3, 0.0) - p1), 1e-15);
+  EXPECT_LT(glm::length(knit64::knitCatmullRom(p0, p1, p2, p3, 1.0) - p2), 1e-14);
+  const double h = 1e-6;  // central difference: O(h²) truncation, 1e-9 relative
+  const glm::dvec3 d0 = (knit64::knitCatmullRom(p0, p1, p2, p3, h) - knit64::knitCatmullRom(p0, p1, p2, p3, -h)) / (2 * h);
+  const glm::dvec3 d1 = (knit64::knitCatmullRom(p0, p1, p2, p3, 1 + h) - knit64::knitCatmullRom(p0, p1, p2, p3, 1 - h)) / (2 * h);
+  EXPECT_LT(glm::length(d0 - 0.5 * (p2 - p0)), 1e-8);
+  EXPECT_LT(glm::length(d1 - 0.5 * (p3 - p1)), 1e-8);
+
+  for (const KnitSetup& s : {stretched(3, 3, {Deformation::Shear, 20.0}),
+                             buildKnitSetup(makeLacePatch(4, 6), makeLacePatch(4, 6), {})}) {
+    const KnitSolution sol = solveKnitCpu(s);
+    const YarnModel coarse = knitYarnModel(s, sol.worldPoints, false);
+    const YarnModel fine = knitYarnModel(s, sol.worldPoints, true);
+    const YarnBuffers y = buildYarnBuffers(coarse);
+    const std::vector<FrameNormal> frames = computeKnotFramesCpu(y);
+    int closed = 0, open = 0;
+    for (size_t ci = 0; ci < coarse.curves.size(); ++ci) {
+      const YarnCurve &cc = coarse.curves[ci], &fc = fine.curves[ci];
+      const size_t n = cc.points.size(), segments = cc.closed ? n : n - 1;
+      ASSERT_EQ(fc.points.size(), segments * FT_KNIT_UPSAMPLE + (cc.closed ? 0 : 1)) << s.name << " yarn " << ci;
+      (cc.closed ? closed : open) += 1;
+      if (!cc.closed) {  // the solver's own end points (float), not the coarse curve's
+        EXPECT_EQ(fc.points.front(), glm::vec3(sol.worldPoints[s.yarns[ci].points.front()]))
+            << s.name << " yarn " << ci << " start";
+        EXPECT_EQ(fc.points.back(), glm::vec3(sol.worldPoints[s.yarns[ci].points.back()]))
+            << s.name << " yarn " << ci << " end";
+      }
+      for (size_t i = 0; i < segments; ++i) {
+        const YarnSegment seg = loadSegmentCpu(y, frames, y.curves[ci].firstSegment + uint32_t(i));
+        for (int k = 0; k < FT_KNIT_UPSAMPLE; ++k) {
+          const glm::vec3 q = ftBezierPoint(seg, float(k) / FT_KNIT_UPSAMPLE);
+          const glm::vec3 v = fc.points[i * FT_KNIT_UPSAMPLE + k];
+          // float32 Bézier evaluation of points a few units from the origin: 1e-5.
+          ASSERT_LT(glm::length(v - q), 1e-5f * (1.0f + glm::length(q)))
+              << s.name << " yarn " << ci << " segment " << i << " vertex " << k;
+        }
+      }
+    }
+    EXPECT_GT(open, 0) << s.name;
+  }
+}
+
+// The solver at its largest iteration count (FT_KNIT_MAX_ITERATIONS, the
+// most --iterations accepts) runs every iteration: k + 1 iterations are
+// exactly one more from where k stopped, the energy after the last is the
+// energy at the returned Θ, and the last iteration still moves some tiles
+// (so a count capped one short would show). Issue 14, deliverable 12.
+TEST(KnitSolver, MaximumIterationCountRunsEveryIteration) {
+  const KnitSetup s = stretched(4, 4, {Deformation::Shear, 30.0});
+  const double wA = s.options.wAngle, wL = s.options.wLength;
+  const uint32_t maxIt = FT_KNIT_MAX_ITERATIONS;
+  int movedInLast = 0;
+  for (uint32_t t = 0; t < s.tileCount(); ++t) {
+    const knit64::KnitProblem& pr = s.problems[t];
+    for (uint32_t k = 0; k < maxIt; ++k) {
+      const knit64::KnitTileResult a = knit64::knitSolveTile(pr, wA, wL, k + 1);
+      const knit64::KnitTileResult b = knit64::knitSolveTile(pr, wA, wL, k);
+      knit64::KnitProblem from = pr;
+      from.theta0 = b.theta;
+      const knit64::KnitTileResult c = knit64::knitSolveTile(from, wA, wL, 1);
+      // Same arithmetic on the same Θ: equal to a few ulps.
+      ASSERT_LT(glm::length(a.theta - c.theta), 1e-12 * (1.0 + glm::length(a.theta))) << "tile " << t << " k " << k;
+      EXPECT_NEAR(a.energy[k + 1], c.energy[1], 1e-12 * (1.0 + c.energy[1])) << "tile " << t << " k " << k;
+      EXPECT_NEAR(a.energy[k + 1], knit64::knitEnergy(pr, a.theta, wA, wL), 1e-12 * (1.0 + a.energy[k + 1]))
+          << "tile " << t << ": energy after the last iteration is not the returned Θ's";
+      if (k + 1 == maxIt && glm::length(a.theta - b.theta) > 1e-9 * (1.0 + glm::length(b.theta))) ++movedInLast;
+    }
+  }
+  EXPECT_GT(movedInLast, 0) << "no tile moves in iteration " << maxIt << ": the test could not see a capped count";
 }
 
 // Every stitch type: pentagons split into two tiles, the yarn-over triangle on

@@ -276,3 +276,64 @@ TEST(YarnPreset, ControlBytesAreEscapedInMessages) {
   }
   EXPECT_THROW(parseYarnPresets(std::string("name\0x", 6), kSource), InputError);
 }
+
+// --set name=value (issue 14, deliverable 10): any column, the loader's range
+// checks, later assignments win, the base preset untouched.
+TEST(YarnPresetOverride, SetsColumnsByName) {
+  const YarnPreset& base = ft::findYarnPreset("cotton1");
+  const YarnPreset p = ft::overrideYarnPreset(
+      base, {"ply_num=4", "fiber_num=12", "alpha=0.25", "yarn_clock_wise=1", "hair_pe_sigma=0", "rho_min = 0.5",
+             "ply_num=5"});
+  EXPECT_EQ(p.plyNum, 5);
+  EXPECT_EQ(p.fiberNum, 12);
+  EXPECT_EQ(p.alpha, 0.25);
+  EXPECT_TRUE(p.yarnClockWise);
+  EXPECT_EQ(p.hairPe.sigma, 0.0);
+  EXPECT_EQ(p.rhoMin, 0.5);
+  EXPECT_EQ(p.name, "cotton1");
+  EXPECT_EQ(p.yarnRadius, base.yarnRadius);
+  EXPECT_EQ(base.plyNum, 3);  // the built-in table is not changed
+  EXPECT_EQ(ft::findYarnPreset("cotton1").plyNum, 3);
+  // Every column of the table can be set (the header, name excluded).
+  for (size_t i = 1; i < kHeader.size(); ++i) {
+    const std::string& c = kHeader[i];
+    const bool flag = c == "yarn_clock_wise" || c == "fiber_clock_wise";
+    const bool count = c == "ply_num" || c == "fiber_num";
+    EXPECT_NO_THROW(ft::overrideYarnPreset(base, {c + "=" + (flag ? "1" : count ? "2" : c == "rho_min" ? "0.9" : c == "rho_max" ? "1.5" : c == "ellipse_short" ? "0.01" : "0.3")}))
+        << c;
+  }
+}
+
+void expectSetRefused(const std::vector<std::string>& sets, const std::vector<std::string>& parts) {
+  try {
+    ft::overrideYarnPreset(ft::findYarnPreset("cotton1"), sets);
+    ADD_FAILURE() << "accepted " << sets.back();
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("--set"), std::string::npos) << what;
+    for (const std::string& s : parts) EXPECT_NE(what.find(s), std::string::npos) << "missing '" << s << "': " << what;
+  }
+}
+
+TEST(YarnPresetOverride, RefusesWhatTheLoaderRefuses) {
+  expectSetRefused({"ply_num=9"}, {"ply_num", "'9'", "1..8"});
+  expectSetRefused({"ply_num=0"}, {"ply_num", "1..8"});
+  expectSetRefused({"fiber_num=4097"}, {"fiber_num", "4097", "1..4096"});
+  expectSetRefused({"ply_num=2.5"}, {"ply_num", "2.5", "integer"});
+  expectSetRefused({"alpha=0"}, {"alpha", "> 0"});
+  expectSetRefused({"alpha=nan"}, {"alpha", "nan"});
+  expectSetRefused({"alpha=inf"}, {"alpha", "inf"});
+  expectSetRefused({"hair_density=-1"}, {"hair_density", "-1", ">= 0"});
+  expectSetRefused({"epsilon=0.7"}, {"epsilon", "0.7", "[0, 0.5]"});
+  expectSetRefused({"yarn_clock_wise=2"}, {"yarn_clock_wise", "0 or 1"});
+  expectSetRefused({"beta=abc"}, {"beta", "abc", "number"});
+  expectSetRefused({"rho_min=2"}, {"rho_min", "'2'", "rho_max"});                  // cross-column, against the preset
+  expectSetRefused({"rho_max=0.5"}, {"rho_min", "rho_max (0.5)"});                 // the other side of it
+  expectSetRefused({"ellipse_short=1"}, {"ellipse_short", "ellipse_long"});
+  expectSetRefused({"nosuch=1"}, {"nosuch", "unknown", "ply_num", "loop_r1_sigma"});
+  expectSetRefused({"name=x"}, {"unknown preset parameter 'name'"});
+  expectSetRefused({"ply_num"}, {"ply_num", "name=value"});
+  expectSetRefused({"ply_num=4", "fiber_num=0"}, {"fiber_num=0"});
+  // A combination valid only together is accepted in any order.
+  EXPECT_NO_THROW(ft::overrideYarnPreset(ft::findYarnPreset("cotton1"), {"rho_max=2", "rho_min=1.5"}));
+}

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 #include <map>
 #include <span>
 #include <unordered_map>
@@ -75,6 +76,69 @@ bool hairBreak(const uvec4& a, const uvec4& b) {
   return periodChange && ((a.w & 0xFFu) == FT_FIBER_HAIR || (b.w & 0xFFu) == FT_FIBER_HAIR);
 }
 
+// Model cusps (issue 14, deliverable 11): a back-track p[i+1] == p[i-1]
+// makes the curve turn back on itself — exactly at knot i (zero tangent), and
+// nearly again at knot i+1, where it leaves p[i+1] towards p[i+2] after
+// arriving from p[i]. There the centre line's radius of curvature falls below
+// the distance of the fibers from it (to 0 at knot i), so each fiber, an
+// offset of the centre line, folds into a corner of the model itself: no
+// sampling density removes it, and like a hair's free end it is reported
+// apart. The region: on the segments the back-track's points shape (i-1, i,
+// i+1), the stretches where the radius of curvature is below the fibers'
+// reach (YarnParams::boundRadius). Everywhere else, including the rest of
+// those segments, the metric stays strict. Written from the control points
+// alone (not common/).
+class CuspRegions {
+ public:
+  static constexpr int kSteps = 256;  // the region to 1/256 of a segment
+  CuspRegions(const YarnBuffers& y, double reach) : folded_(y.segments.size()) {
+    for (const CurveInfo& c : y.curves) {
+      if (c.basis != FT_BASIS_CATMULL_ROM) continue;
+      const int n = int(c.pointCount), segments = c.closed ? n : n - 1;
+      auto point = [&](int k) -> glm::dvec3 {  // wrapped, or reflected at open ends
+        auto at = [&](int i) { return glm::dvec3(glm::vec3(y.points[c.firstPoint + uint32_t(i)].positionLength)); };
+        if (c.closed) return at(((k % n) + n) % n);
+        if (k < 0) return 2.0 * at(0) - at(1);
+        if (k >= n) return 2.0 * at(n - 1) - at(n - 2);
+        return at(k);
+      };
+      // Radius of curvature |C'|³ / |C' × C''| of uniform Catmull-Rom segment k at t.
+      auto radius = [&](int k, double t) {
+        const glm::dvec3 p0 = point(k - 1), p1 = point(k), p2 = point(k + 1), p3 = point(k + 2);
+        const glm::dvec3 a = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3, b = -p0 + 3.0 * p1 - 3.0 * p2 + p3;
+        const glm::dvec3 d1 = 0.5 * ((p2 - p0) + 2.0 * a * t + 3.0 * b * t * t), d2 = 0.5 * (2.0 * a + 6.0 * b * t);
+        const double cross = glm::length(glm::cross(d1, d2)), speed = glm::length(d1);
+        return cross > 0.0 ? speed * speed * speed / cross : std::numeric_limits<double>::infinity();
+      };
+      for (int k = 0; k < n; ++k) {
+        if (!c.closed && (k == 0 || k + 1 == n)) continue;  // open ends are reflected, never cusps
+        if (point(k + 1) != point(k - 1)) continue;
+        ++cusps_;
+        for (int sgm = k - 1; sgm <= k + 1; ++sgm) {
+          if (!c.closed && (sgm < 0 || sgm >= segments)) continue;
+          std::vector<bool>& f = folded_[c.firstSegment + uint32_t((sgm + segments) % segments)];
+          if (f.empty()) f.assign(kSteps + 1, false);
+          for (int i = 0; i <= kSteps; ++i)
+            if (radius((sgm + segments) % segments, double(i) / kSteps) < reach) f[size_t(i)] = true;
+        }
+      }
+    }
+  }
+  // Whether the part [t0, t1] of segment `sgm` lies on a fold.
+  bool folded(uint32_t sgm, double t0, double t1) const {
+    const std::vector<bool>& f = folded_[sgm];
+    if (f.empty()) return false;
+    for (int i = int(std::floor(t0 * kSteps)); i <= int(std::ceil(t1 * kSteps)); ++i)
+      if (i >= 0 && i <= kSteps && f[size_t(i)]) return true;
+    return false;
+  }
+  uint32_t count() const { return cusps_; }
+
+ private:
+  std::vector<std::vector<bool>> folded_;  // per segment: radius < reach at t = i / kSteps (empty: not shaped by a cusp)
+  uint32_t cusps_ = 0;
+};
+
 // One drawn fiber piece: a strip of one segment, vertices by index.
 struct Strip {
   uint32_t segment = 0;
@@ -92,7 +156,8 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
   const FiberSetup& s = ctx.fiberSetup(preset);
   const YarnParams& p = s.params;
   const int width = o.lodWidth, height = o.lodHeight;
-  const Camera camera = closeupCamera(ctx.model(), width, height);
+  // --eye/--target/--fov, when given, replace the close-up view.
+  const Camera camera = applyCameraOverride(closeupCamera(ctx.model(), width, height), o.camera, ctx.model());
   // ω^LoD at twice the fiber's width at the target, so λ of eq. 4 is about
   // ½ there: fewer fibers are drawn, and their smoothness must not suffer
   // (the subdivisions follow the screen, not λ).
@@ -148,6 +213,10 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
     st.vertices[(v.id.w >> 8u) & 0xFFu] = v;
   }
 
+  const CuspRegions cusps(y, p.boundRadius);
+  double chordCuspMax = 0.0, kinkCuspMax = 0.0;
+  uint64_t cuspChords = 0, cuspJoints = 0;
+  std::string cuspWorst;
   double chordHairMax = 0.0, chordMax = 0.0, kinkMax = 0.0, kinkKnotMax = 0.0, turnMax = 0.0, turnKnotMax = 0.0;
   uint64_t chords = 0, joints = 0, knotJoints = 0, subdivSum = 0, stripCount = 0, cappedStrips = 0;
   double lambdaSum = 0.0;
@@ -194,6 +263,10 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
     SegmentDecision d4 = d;
     d4.subdivisions = 4u * d.subdivisions;
 
+    // The chords and vertices that touch a cusp knot of the model.
+    const uint32_t n = d.subdivisions;
+    auto cuspChord = [&](uint32_t j) { return cusps.folded(sgm, double(j) / n, double(j + 1u) / n); };
+    auto cuspVertex = [&](uint32_t j) { return cuspChord(j - 1u) || cuspChord(j); };
     std::vector<ProjectedPoint> proj(d.subdivisions + 1u);
     for (uint32_t j = 0; j <= d.subdivisions; ++j)
       proj[j] = project(view, width, height, glm::vec3(st.vertices.at(j).position));
@@ -209,6 +282,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       // reported apart, since no sampling density removes a corner.
       const bool hair = (a.id.w & 0xFFu) == FT_FIBER_HAIR || (b.id.w & 0xFFu) == FT_FIBER_HAIR;
       ++chords;
+      cuspChords += cuspChord(j) ? 1u : 0u;
       for (uint32_t q = 1; q < 4; ++q) {
         const FiberVertex e = ftFiberVertex(p, rates, seg, d4, curve, sgm, ply, slot, fc, 4u * j + q);
         if (countNonFinite(std::span<const FiberVertex>(&e, 1)) != 0) {
@@ -221,6 +295,10 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
         const double err = pointSegmentDistance(pe.px, proj[j].px, proj[j + 1].px);
         if (hair) {
           chordHairMax = maxKeepNaN(chordHairMax, err);
+        } else if (cuspChord(j)) {
+          if (err > chordCuspMax)
+            cuspWorst = fmt::format("at a model cusp (reported apart): segment {} chord {}/{}: {:.3f} px\n", sgm, j, n, err);
+          chordCuspMax = maxKeepNaN(chordCuspMax, err);
         } else if (!(err <= chordMax)) {
           chordMax = maxKeepNaN(chordMax, err);
           worst = fmt::format("chord: segment {} ply {} fiber {} type {} chord {}/{}: {:.3f} px\n", sgm, ply, fiber,
@@ -238,6 +316,11 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       double turn = 0.0;
       const double k = kinkAt(proj[j - 1], proj[j], proj[j + 1], turn);
       ++joints;
+      if (cuspVertex(j)) {
+        ++cuspJoints;
+        kinkCuspMax = maxKeepNaN(kinkCuspMax, k);
+        continue;
+      }
       turnMax = maxKeepNaN(turnMax, turn);
       if (!(k <= kinkMax)) {
         kinkMax = maxKeepNaN(kinkMax, k);
@@ -263,6 +346,11 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
           double turn = 0.0;
           const double k = kinkAt(proj[d.subdivisions - 1], proj[d.subdivisions], pc, turn);
           ++knotJoints;
+          if (cusps.folded(sgm, 1.0, 1.0) || cusps.folded(next, 0.0, 0.0)) {  // a knot on a fold
+            ++cuspJoints;
+            kinkCuspMax = maxKeepNaN(kinkCuspMax, k);
+            continue;
+          }
           turnKnotMax = maxKeepNaN(turnKnotMax, turn);
           kinkKnotMax = maxKeepNaN(kinkKnotMax, k);
           if (!(k <= kinkMax)) {
@@ -292,6 +380,13 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
              true},
       Metric{"chord.hair_max_px", chordHairMax, 0.0, "pixels",
              "hair chords: the free end and the rejoining point are corners of the model", false},
+      Metric{"chord.cusp_max_px", chordCuspMax, 0.0, "pixels",
+             "chords that touch a cusp of the model (p[i+1] == p[i-1]): the yarn reverses there, a corner of the "
+             "curve itself",
+             false},
+      Metric{"kink.cusp_max_px", kinkCuspMax, 0.0, "pixels", "the same for vertices next to a cusp knot", false},
+      Metric{"cusp.chords", double(cuspChords), 0.0, "count", "chords measured apart at model cusps", false},
+      Metric{"cusp.joints", double(cuspJoints), 0.0, "count", "vertices measured apart at model cusps", false},
       Metric{"kink.knot_max_px", kinkKnotMax, kKinkTolerancePx, "pixels", "the same, at knots only", false},
       Metric{"turning.max_deg", turnMax, 0.0, "degrees", "largest screen-space turn between chords inside segments",
              false},
@@ -308,6 +403,11 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       Metric{"segments.listed", double(list.size()), 0.0, "count", "segments the camera sees (up to the budget)",
              false},
   };
+  worst += cuspWorst;
+  if (o.camera.any())
+    worst = fmt::format("explicit camera: eye {},{},{} target {},{},{} fov {}°\n", camera.eye.x, camera.eye.y,
+                        camera.eye.z, camera.target.x, camera.target.y, camera.target.z, camera.fovyDegrees) +
+            worst;
   r.details = firstNonFinite.empty() ? worst : firstNonFinite + "\n" + worst;
   r.finish();
   if (o.images && (!r.pass || &preset == ctx.presets().front())) {

@@ -21,6 +21,13 @@ void CaseResult::finish() {
 
 ValidationContext::ValidationContext(HarnessOptions options) : options_(std::move(options)) {
   model_ = options_.model ? readBcc(*options_.model) : makeDefaultScene();
+  // The presets of the run, each with the --set overrides (checked here).
+  if (options_.yarns.empty())
+    for (const YarnPreset& p : builtinYarnPresets()) presets_.push_back(overrideYarnPreset(p, options_.presetOverrides));
+  else
+    for (const std::string& y : options_.yarns)
+      presets_.push_back(overrideYarnPreset(findYarnPreset(y), options_.presetOverrides));
+  applyCameraOverride(Camera{}, options_.camera, model_);  // bad --eye/--target/--fov fail before any GL work
   buffers_ = buildYarnBuffers(model_);
   // Bad names and options fail here, before any GL work.
   for (const YarnPreset* preset : presets()) checkFiberOptions(*preset, options_.fiber);
@@ -72,10 +79,7 @@ std::string ValidationContext::modelLabel() const {
 
 std::vector<const YarnPreset*> ValidationContext::presets() const {
   std::vector<const YarnPreset*> out;
-  if (options_.yarns.empty())
-    for (const YarnPreset& p : builtinYarnPresets()) out.push_back(&p);
-  else
-    for (const std::string& y : options_.yarns) out.push_back(&findYarnPreset(y));
+  for (const YarnPreset& p : presets_) out.push_back(&p);
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "gpu/fiber_gpu.h"
 #include "gpu/fiber_renderer.h"
 #include "gpu/gl_context.h"
+#include "scene/camera.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"
 #include "scene/yarn_preset.h"
@@ -35,6 +36,8 @@ struct HarnessOptions {
   std::filesystem::path reportDir = "fibertwin-report";
   GlBackend backend = GlBackend::Auto;
   FiberOptions fiber;
+  std::vector<std::string> presetOverrides;    // --set name=value, applied to every preset
+  CameraOverride camera;                       // --eye/--target/--fov: the closeup/* cases' camera
   int lodWidth = 640, lodHeight = 480;         // the view the LoD decisions are made for
   float lodThresholdPx = 1.0f;                 // ω^LoD
   int imageWidth = 256, imageHeight = 192;     // report thumbnails
@@ -119,6 +122,7 @@ class ValidationContext {
   HarnessOptions options_;
   YarnModel model_;
   YarnBuffers buffers_;
+  std::vector<YarnPreset> presets_;  // built once; cases keep pointers to them
   double yarnRadius_ = 0.0;
   std::string yarnRadiusSource_;
   std::vector<std::string> defines_;
