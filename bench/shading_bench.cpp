@@ -11,7 +11,8 @@
 // scale only: a different GPU, and llvmpipe here.
 //
 // Own flags: --model=PATH (default data/yarn-models/glove.bcc), --yarn=NAME
-// (cotton1), --fabric=NAME (cotton), --width=, --height= (1280, 960).
+// (cotton1), --fabric=NAME (cotton), --width=, --height= (1280, 960),
+// --self-shadow=0 (the 000 §4.1 self-shadow texture is on by default).
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
@@ -85,6 +86,8 @@ int main(int argc, char** argv) {
     ft::takeFlag(argc, argv, "model", modelPath);
     ft::takeFlag(argc, argv, "yarn", yarn);
     ft::takeFlag(argc, argv, "fabric", fabric);
+    ft::AppearanceOptions appearance;  // every approximation of 000 §4 that is built: what a frame costs
+    if (ft::takeFlag(argc, argv, "self-shadow", n)) appearance.selfShadow = n != "0";
     if (ft::takeFlag(argc, argv, "width", n)) setup.width = std::max(16, std::atoi(n.c_str()));
     if (ft::takeFlag(argc, argv, "height", n)) setup.height = std::max(16, std::atoi(n.c_str()));
     setup.model = ft::readBcc(modelPath);
@@ -103,7 +106,7 @@ int main(int argc, char** argv) {
     setup.gpu = std::make_unique<ft::FiberGpu>(gi);
     setup.gpu->setModel(setup.buffers, setup.fibers.table);
     setup.renderer = std::make_unique<ft::FiberRenderer>(gi);
-    setup.renderer->setShading(ft::ShadingBakeGpu(gi).bake(shading));
+    setup.renderer->setShading(ft::ShadingBakeGpu(gi).bake({shading, &setup.fibers.fit.preset, appearance}));
     setup.timer = std::make_unique<ft::GpuTimer>(gi);
 
     benchmark::AddCustomContext("gl_renderer", gi.renderer);
@@ -112,6 +115,7 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("segments", std::to_string(setup.buffers.segments.size()));
     benchmark::AddCustomContext("yarn", yarn);
     benchmark::AddCustomContext("fabric", fabric);
+    benchmark::AddCustomContext("self_shadow", appearance.selfShadow ? "on (000 §4.1, 128x128x16)" : "off");
     benchmark::AddCustomContext("viewport", fmt::format("{}x{}, 4x MSAA, RGBA32F", setup.width, setup.height));
     // 000 Table 1 (Wu & Yuksel 2019, GTX 1080, 1280×960), ms as close / worst / full view:
     // not comparable hardware, context only.

@@ -234,6 +234,14 @@ int main(int argc, char** argv) {
   addViewOptions(render, ro.view, renderText);
   render->add_option("--path", ro.path, "compute or tessellation")->capture_default_str();
   render->add_flag("--preview", ro.preview, "the harness thumbnails' preview style instead of the BCSDF (PNG only)");
+  render->add_flag("!--no-self-shadow", ro.appearance.selfShadow,
+                   "without the self-shadow texture of 000 §4.1 (light through the yarn's own fibers)");
+  render->add_option("--self-shadow-size", ro.appearance.selfShadowSize,
+                     "self-shadow texels across the yarn (default 128)");
+  render->add_option("--self-shadow-slices", ro.appearance.selfShadowSlices,
+                     "self-shadow slices over the ply twist (default 16)");
+  render->add_option("--self-shadow-kappa", ro.appearance.selfShadowKappa,
+                     "κ of T = exp(-κD) (default 2 r_f, notes §0.3; 0: no self-shadow)");
   render->add_option("--backend", backend, "GL backend");
   render->add_option("--inject", ro.inject,
                      "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");

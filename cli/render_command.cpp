@@ -104,7 +104,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                        v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * secondsSince(t0), g.renderer);
     return 0;
   }
-  renderer.setShading(ShadingBakeGpu(g, defines).bake(v.shading));
+  renderer.setShading(ShadingBakeGpu(g, defines).bake({v.shading, &v.fibers.fit.preset, o.appearance}));
   const ImageRgbaF img = renderer.render(gpu, path, w, h);
   const double seconds = secondsSince(t0);
   if (const size_t bad = nonFiniteValues(img))
@@ -128,7 +128,7 @@ int runTraceCommand(const TraceCommandOptions& o, std::ostream& log) {
   const double buildSeconds = secondsSince(t0);
   log << fmt::format("{} fiber segments of {} fibers as Embree round curves, {:.1f} MiB, built in {:.1f} s\n",
                      scene.segmentCount(), scene.fiberCount(), scene.bytes() / 1048576.0, buildSeconds);
-  const std::vector<glm::vec3> table = bakeShadingInputsCpu(v.shading).ambientTable;
+  const std::vector<glm::vec3> table = bakeShadingInputsCpu({v.shading, nullptr, AppearanceOptions::none()}).ambientTable;
   TraceOptions t;
   t.samplesPerPixel = o.samplesPerPixel;
   t.shadows = o.shadows;

@@ -13,6 +13,7 @@
 #include "image/image_io.h"
 #include "scene/camera.h"
 #include "scene/lighting.h"
+#include "scene/shading_inputs.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_model.h"
 #include "scene/yarn_radius.h"
@@ -39,6 +40,7 @@ struct RenderCommandOptions {
   ViewOptions view;
   std::string path = "compute";                // compute or tessellation
   bool preview = false;                        // the harness thumbnails' preview style (RGBA8 PNG)
+  AppearanceOptions appearance;                // 000 §4's approximations (--no-self-shadow, ...)
   GlBackend backend = GlBackend::Auto;
   std::string inject;                          // planted fault (faults.def)
 };

@@ -28,6 +28,9 @@ inline bool ftFaultShadingCosDropped = false;
 #define FT_MAX_LIGHTS 4
 #define FT_SHADING_KHUNGURN 0u
 #define FT_SHADING_SIMPLE 1u
+// Bits of ShadingParams.flags.w: the approximations of 000 §4 a frame uses
+// (scene/shading_inputs.h AppearanceOptions).
+#define FT_APPEARANCE_SELF_SHADOW 1u  // 000 §4.1 self-shadow texture (common/self_shadow.h)
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 
@@ -41,7 +44,7 @@ struct ShadingParams {
   vec4 ambient;                         // rgb L_amb (uniform ambient radiance), w unused
   vec4 diffuse;                         // rgb k_d, w unused
   vec4 simple;                          // x k_s, y β of eq. 5 (radians), zw unused
-  uvec4 flags;                          // x light count, y model (FT_SHADING_*), z background alpha 0/1, w unused
+  uvec4 flags;                          // x light count, y model (FT_SHADING_*), z background alpha 0/1, w FT_APPEARANCE_* bits
   vec4 background;                      // rgb radiance where no fiber is hit, w unused
 };
 FT_ASSERT_OFFSET(ShadingParams, lightDirection, 48)

@@ -362,6 +362,7 @@ void FiberGpu::draw(FiberPath path, GLuint program) {
 
 void FiberGpu::drawCompute(GLuint program) {
   setUint(program, "vertexTotal", readDrawCommand().vertexTotal);
+  setUint(program, "listCount", static_cast<uint32_t>(listCount_));  // the yarn frame of each vertex
   glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_.id());
@@ -401,6 +402,7 @@ void FiberGpu::drawVertices(std::span<const FiberVertex> vertices, std::span<con
   glBindVertexArray(vao_.id());
   glUseProgram(program);
   setUint(program, "vertexTotal", static_cast<uint32_t>(vertices.size()));
+  setUint(program, "listCount", 0u);  // a foreign stream: no yarn samples of its own
   vbo.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VERTICES);
   glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo.id());

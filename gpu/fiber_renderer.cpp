@@ -95,11 +95,20 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   std::vector<glm::vec4> texels;
   for (const glm::vec3& a : inputs.ambientTable) texels.emplace_back(a, 0.0f);
   ambientTable_ = makeBuffer(texels.size() * sizeof(glm::vec4), texels.data());
+  // The self-shadow block as the bake kernels declare it (self_shadow_*.comp.glsl).
+  struct SelfShadowBlock {
+    SelfShadowParams shadow;
+    YarnDensityParams density;
+  } block{inputs.selfShadow, inputs.density};
+  selfShadowUbo_ = makeBuffer(sizeof(block), &block);
+  selfShadowTexels_ = makeBuffer(inputs.selfShadowTexels.size() * sizeof(float), inputs.selfShadowTexels.data());
 }
 
 void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING, shadingUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SELF_SHADOW, selfShadowUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SELF_SHADOW_TEXTURE, selfShadowTexels_.id());
 }
 
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height) {

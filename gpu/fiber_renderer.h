@@ -72,7 +72,7 @@ class FiberRenderer {
 
   std::vector<std::string> defines_;
   Program programs_[2];
-  Buffer shadingUbo_, ambientTable_;
+  Buffer shadingUbo_, ambientTable_, selfShadowUbo_, selfShadowTexels_;
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
 };

@@ -1,13 +1,27 @@
 #include "gpu/shading_inputs_gpu.h"
 
+#include <stdexcept>
+
+#include "scene/yarn_density.h"
+#include "scene/yarn_preset.h"
+
 namespace ft {
 
-ShadingBakeGpu::ShadingBakeGpu(const GlInfo& gl, const std::vector<std::string>& defines) : bcsdf_(gl, defines) {}
+ShadingBakeGpu::ShadingBakeGpu(const GlInfo& gl, const std::vector<std::string>& defines)
+    : bcsdf_(gl, defines), selfShadow_(gl, defines) {}
 
-ShadingInputs ShadingBakeGpu::bake(const ShadingParams& params) {
+ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
   ShadingInputs in;
-  in.params = params;
-  in.ambientTable = bcsdf_.bakeAmbientTable(params.fabric);
+  in.params = request.params;
+  in.params.flags.w = 0u;
+  in.ambientTable = bcsdf_.bakeAmbientTable(request.params.fabric);
+  if (request.appearance.selfShadow) {
+    if (!request.fittedPreset) throw std::invalid_argument("ShadingBakeGpu: self-shadow needs the yarn preset");
+    in.density = makeYarnDensity(*request.fittedPreset);
+    in.selfShadow = frameSelfShadowParams(in.density, request.appearance);
+    in.selfShadowTexels = selfShadow_.bakeGrid(in.density, in.selfShadow);  // 000 Fig. 6: grid + prefix sum
+    in.params.flags.w |= FT_APPEARANCE_SELF_SHADOW;
+  }
   checkShadingInputs(in);
   return in;
 }

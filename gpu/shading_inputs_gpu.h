@@ -1,13 +1,15 @@
 // shading_inputs_gpu.h — the GPU bake of every precomputed shading input
 // (scene/shading_inputs.h): the real-time side's own tables, in float, with
-// the kernels of each algorithm (gpu/bcsdf_gpu.h, ...). The renderer
-// (gpu/fiber_renderer.h) draws with what this returns.
+// the kernels of each algorithm (gpu/bcsdf_gpu.h, gpu/self_shadow_gpu.h: the
+// paper's density grid and prefix sum). The renderer (gpu/fiber_renderer.h)
+// draws with what this returns.
 #pragma once
 #include <string>
 #include <vector>
 
 #include "gpu/bcsdf_gpu.h"
 #include "gpu/gl_context.h"
+#include "gpu/self_shadow_gpu.h"
 #include "scene/shading_inputs.h"
 
 namespace ft {
@@ -16,10 +18,11 @@ class ShadingBakeGpu {
  public:
   // defines: extra preprocessor symbols (fault injection, validation/faults.h).
   explicit ShadingBakeGpu(const GlInfo& gl, const std::vector<std::string>& defines = {});
-  ShadingInputs bake(const ShadingParams& params);
+  ShadingInputs bake(const ShadingBakeRequest& request);
 
  private:
   BcsdfGpu bcsdf_;
+  SelfShadowGpu selfShadow_;
 };
 
 }  // namespace ft

@@ -1,13 +1,26 @@
 #include "reference/shading_inputs.h"
 
+#include <stdexcept>
+
 #include "reference/bcsdf_tables.h"
+#include "reference/self_shadow.h"
+#include "scene/yarn_density.h"
+#include "scene/yarn_preset.h"
 
 namespace ft {
 
-ShadingInputs bakeShadingInputsCpu(const ShadingParams& params) {
+ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
   ShadingInputs in;
-  in.params = params;
-  in.ambientTable = bakeAmbientTableCpu(params.fabric);
+  in.params = request.params;
+  in.params.flags.w = 0u;
+  in.ambientTable = bakeAmbientTableCpu(request.params.fabric);
+  if (request.appearance.selfShadow) {
+    if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: self-shadow needs the yarn preset");
+    in.density = makeYarnDensity(*request.fittedPreset);
+    in.selfShadow = frameSelfShadowParams(in.density, request.appearance);
+    in.selfShadowTexels = bakeSelfShadowCpu(in.density, in.selfShadow).texels;
+    in.params.flags.w |= FT_APPEARANCE_SELF_SHADOW;
+  }
   checkShadingInputs(in);
   return in;
 }

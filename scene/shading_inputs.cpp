@@ -5,7 +5,20 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "scene/input_error.h"
+
 namespace ft {
+
+SelfShadowParams frameSelfShadowParams(const YarnDensityParams& density, const AppearanceOptions& o) {
+  if (o.selfShadowSize < 3 || o.selfShadowSize > 4096)
+    throw InputError(fmt::format("--self-shadow-size: {} must be in [3, 4096]", o.selfShadowSize));
+  if (o.selfShadowSlices < 1 || o.selfShadowSlices > 4096)
+    throw InputError(fmt::format("--self-shadow-slices: {} must be in [1, 4096]", o.selfShadowSlices));
+  if (!std::isfinite(o.selfShadowKappa))
+    throw InputError(fmt::format("--self-shadow-kappa: {} must be a finite number", o.selfShadowKappa));
+  const float kappa = o.selfShadowKappa >= 0.0f ? o.selfShadowKappa : 2.0f * ftSelfShadowFiberRadius(density);
+  return ftSelfShadowParams(density, o.selfShadowSize, o.selfShadowSize, o.selfShadowSlices, kappa);
+}
 
 void checkShadingInputs(const ShadingInputs& inputs) {
   if (inputs.ambientTable.size() != FT_AMBIENT_TABLE_SIZE)
@@ -16,6 +29,15 @@ void checkShadingInputs(const ShadingInputs& inputs) {
     if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(a.z))
       throw std::invalid_argument(fmt::format("shading inputs: ambient table texel {} is ({}, {}, {})", k, a.x, a.y, a.z));
   }
+  const bool selfShadow = (inputs.params.flags.w & FT_APPEARANCE_SELF_SHADOW) != 0u;
+  const size_t texels = size_t(inputs.selfShadow.width) * inputs.selfShadow.height * inputs.selfShadow.slices;
+  if (selfShadow && (texels == 0 || inputs.selfShadowTexels.size() != texels))
+    throw std::invalid_argument(fmt::format("shading inputs: self-shadow texture has {} texels, its layout {}",
+                                            inputs.selfShadowTexels.size(), texels));
+  for (size_t k = 0; selfShadow && k < texels; ++k)
+    if (!std::isfinite(inputs.selfShadowTexels[k]))
+      throw std::invalid_argument(
+          fmt::format("shading inputs: self-shadow texel {} is {}", k, inputs.selfShadowTexels[k]));
 }
 
 }  // namespace ft

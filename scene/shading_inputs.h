@@ -11,15 +11,51 @@
 #include <vector>
 
 #include "common/fiber_shading.h"
+#include "common/self_shadow.h"
+#include "common/yarn_density.h"
 
 namespace ft {
+
+// Which of 000 §4's approximations a frame uses, and at what size (each is
+// switchable, so the fidelity of each can be measured against the all-fiber
+// reference).
+struct AppearanceOptions {
+  bool selfShadow = true;  // 000 §4.1: the self-shadow 3D texture (common/self_shadow.h)
+  uint32_t selfShadowSize = FT_SELF_SHADOW_DEFAULT_SIZE;
+  uint32_t selfShadowSlices = FT_SELF_SHADOW_DEFAULT_SLICES;
+  float selfShadowKappa = -1.0f;  // κ of T = exp(−κD); negative: the default 2 r_f (notes §0.3)
+
+  static AppearanceOptions none() {
+    AppearanceOptions o;
+    o.selfShadow = false;
+    return o;
+  }
+};
 
 struct ShadingInputs {
   ShadingParams params{};
   // A(θ_k) of 000 eq. 7–10 at the FT_AMBIENT_TABLE_SIZE texel centres
   // (common/bcsdf.h ftAmbientTexelAngle), rgb.
   std::vector<glm::vec3> ambientTable;
+  // The self-shadow texture (000 §4.1) of the frame's yarn; no texels: off
+  // (the flag bit FT_APPEARANCE_SELF_SHADOW of params.flags.w says so too).
+  SelfShadowParams selfShadow{};
+  YarnDensityParams density{};
+  std::vector<float> selfShadowTexels;
 };
+
+// What the bakes need of the frame's yarn besides the shading parameters:
+// the preset fitted to the model (its ply-density field).
+struct ShadingBakeRequest {
+  ShadingParams params{};
+  const struct YarnPreset* fittedPreset = nullptr;  // needed when an approximation is on
+  AppearanceOptions appearance;
+};
+
+// The frame's self-shadow layout for `density` (ftSelfShadowParams); InputError
+// naming the option for a size outside [3, 4096] (slices [1, 4096]) or a κ
+// that is NaN or infinite.
+SelfShadowParams frameSelfShadowParams(const YarnDensityParams& density, const AppearanceOptions& options);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

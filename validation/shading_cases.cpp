@@ -131,7 +131,7 @@ ImageRgbaF renderGpu(ValidationContext& ctx, const GroundTruthInputs& in, const 
   gpu.setParams(in.setup->params, in.view);
   gpu.setSegmentList({});
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
-  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake(s));
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, nullptr, AppearanceOptions::none()}));
   return renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kWidth, kHeight);
 }
 
@@ -164,7 +164,7 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tes
   const ImageRgbaF& gpu = start.image;
 
   const auto t1 = Clock::now();
-  const std::vector<glm::vec3> table = bakeShadingInputsCpu(s).ambientTable;
+  const std::vector<glm::vec3> table = bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable;
   // The ground truth at the rasteriser's own multisample positions: the same
   // samples decide coverage on both sides, and the GPU shades once per pixel
   // per fiber where the truth shades each sample.
@@ -318,7 +318,7 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
   gpu.setParams(p, makeViewParams(cam, 1.0f, false, true));
   gpu.setSegmentList({});
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
-  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake(s));
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, nullptr, AppearanceOptions::none()}));
   const auto t0 = Clock::now();
   const ImageRgbaF img =
       renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, cam.width, cam.height);

@@ -18,12 +18,21 @@
 //    the shared BCSDF per directional light plus the ambient table, in linear
 //    HDR radiance (a float target), alpha 1 for coverage.
 #include "common/constants.h"
+#include "common/fiber_geometry.h"
 #include "common/fiber_shading.h"
+#include "common/self_shadow.h"
 #include "common/view_params.h"
 
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
 layout(std140, binding = FT_UBO_SHADING) uniform ShadingBlock { ShadingParams shading; };
 layout(std430, binding = FT_SSBO_AMBIENT_TABLE) readonly buffer AmbientTable { vec4 ambientTable[]; };
+layout(std140, binding = FT_UBO_YARN_PARAMS) uniform YarnBlock { YarnParams yarn; };
+layout(std430, binding = FT_SSBO_CURVES) readonly buffer CurveBuffer { CurveInfo curves[]; };
+layout(std140, binding = FT_UBO_SELF_SHADOW) uniform SelfShadowBlock {
+  SelfShadowParams selfShadow;
+  YarnDensityParams selfShadowDensity;
+};
+layout(std430, binding = FT_SSBO_SELF_SHADOW_TEXTURE) readonly buffer SelfShadowTexture { float selfShadowTexels[]; };
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -31,6 +40,13 @@ layout(location = 6) flat in vec3 lineP1;
 layout(location = 7) flat in vec3 lineT0;
 layout(location = 8) flat in vec3 lineT1;
 layout(location = 9) flat in vec2 lineHalfWidth;
+layout(location = 10) flat in vec4 lineYarnC0;
+layout(location = 11) flat in vec4 lineYarnC1;
+layout(location = 12) flat in vec3 lineYarnN0;
+layout(location = 13) flat in vec3 lineYarnN1;
+layout(location = 14) flat in vec3 lineYarnB0;
+layout(location = 15) flat in vec3 lineYarnB1;
+layout(location = 16) flat in uint lineCurve;
 layout(location = 0) out vec4 color;
 
 uniform uint shaded;
@@ -41,6 +57,7 @@ struct FiberHit {
   vec3 position;
   vec3 tangent;
   vec3 normal;
+  float along;  // place along the line, [0, 1]
 };
 
 // The first hit of the eye ray through o with the capsule. o is a point of
@@ -84,6 +101,7 @@ bool castCapsule(vec3 o, out FiberHit h) {
   float u = clamp(dot(h.position - lineP0, axis) / len2, 0.0, 1.0);
   if (part == 1) u = 0.0;
   if (part == 2) u = 1.0;
+  h.along = u;
   vec3 t = mix(lineT0, lineT1, u);
   h.tangent = dot(t, t) > 0.0 ? normalize(t) : a;
   vec3 radial = part == 0 ? h.position - (lineP0 + u * axis) : h.position - (part == 1 ? lineP0 : lineP1);
@@ -96,11 +114,53 @@ bool castCapsule(vec3 o, out FiberHit h) {
   return true;
 }
 
+float selfShadowTexel(uint i, uint j, uint k) { return selfShadowTexels[ftSelfShadowIndex(selfShadow, i, j, k)]; }
+vec4 selfShadowCorners(SelfShadowSample s, uint k) {
+  return vec4(selfShadowTexel(s.u.x, s.u.z, k), selfShadowTexel(s.u.y, s.u.z, k), selfShadowTexel(s.u.x, s.u.w, k),
+              selfShadowTexel(s.u.y, s.u.w, k));
+}
+
+// The hit in the yarn's cross-section (000 §4.1): its offset from the yarn
+// centre in (N̂, B̂), the frame blended along the line, and the angle of
+// ply 0's N̂ there (ftPlyFrame: 2π·sign·fract(s·r_ply)).
+struct CrossSection {
+  vec2 x;
+  vec3 N, B;
+  float plyAngle;
+};
+CrossSection crossSection(FiberHit h) {
+  CrossSection c;
+  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
+  c.N = normalize(mix(lineYarnN0, lineYarnN1, h.along));
+  vec3 b = mix(lineYarnB0, lineYarnB1, h.along);
+  c.B = normalize(b - dot(b, c.N) * c.N);
+  vec3 q = h.position - cs.xyz;
+  c.x = vec2(dot(q, c.N), dot(q, c.B));
+  TwistRates r = ftTwistRates(yarn, curves[lineCurve]);
+  c.plyAngle = FT_TWO_PI * yarn.plyTwistSign * fract(cs.w * r.ply);
+  return c;
+}
+
+// T_self = exp(−κD) of the light towards `wi` (000 §4.1, common/self_shadow.h).
+float selfShadowTransmittance(CrossSection c, vec3 wi) {
+#ifdef FT_FAULT_FRAME_SELF_SHADOW_LIGHT_SIGN
+  wi = -wi;  // the light's propagation taken for its direction
+#endif
+  SelfShadowSample s = ftSelfShadowSample(selfShadow, c.x, vec2(dot(wi, c.N), dot(wi, c.B)), c.plyAngle);
+  float density = ftSelfShadowBlend(s, selfShadowCorners(s, s.r.x), selfShadowCorners(s, s.r.y));
+  return ftSelfShadowTransmittance(selfShadow, s, density);
+}
+
 vec3 shadeFiber(FiberHit h) {
   vec3 v = normalize(view.cameraPos.xyz - h.position);
   vec3 radiance = vec3(0.0);
-  for (int i = 0; i < int(shading.flags.x) && i < FT_MAX_LIGHTS; ++i)
-    radiance += ftFiberDirect(shading, i, h.tangent, h.normal, v);
+  bool selfShadowed = (shading.flags.w & FT_APPEARANCE_SELF_SHADOW) != 0u;
+  CrossSection c;
+  if (selfShadowed) c = crossSection(h);
+  for (int i = 0; i < int(shading.flags.x) && i < FT_MAX_LIGHTS; ++i) {
+    float visibility = selfShadowed ? selfShadowTransmittance(c, shading.lightDirection[i].xyz) : 1.0;
+    radiance += ftFiberDirect(shading, i, h.tangent, h.normal, v) * visibility;
+  }
   FiberAngles o = ftFiberAngles(h.tangent, v, v);
   vec3 k = ftAmbientLookup(o.thetaO, FT_AMBIENT_TABLE_SIZE);
   vec3 table = mix(ambientTable[int(k.x)].xyz, ambientTable[int(k.y)].xyz, k.z);

@@ -19,6 +19,9 @@ layout(location = 0) in vec4 fiberPosition[];
 layout(location = 1) flat in uvec4 fiberId[];
 layout(location = 2) in vec3 fiberTangent[];
 layout(location = 3) in float fiberStripEnd[];  // 1 at the first or last vertex of a strip
+layout(location = 4) in vec4 yarnCenterLength[];
+layout(location = 5) in vec3 yarnNormal[];
+layout(location = 6) in vec3 yarnBinormal[];
 layout(location = 2) flat out uint stripType;
 layout(location = 3) out vec3 stripWorld;  // world position on the rectangle: a point of this fragment's eye ray
 // The line, for the fragment stage's ray cast: end points, their unit
@@ -28,6 +31,14 @@ layout(location = 6) flat out vec3 lineP1;
 layout(location = 7) flat out vec3 lineT0;
 layout(location = 8) flat out vec3 lineT1;
 layout(location = 9) flat out vec2 lineHalfWidth;
+// The yarn frame at both ends (the fragment blends it at its hit) and the curve.
+layout(location = 10) flat out vec4 lineYarnC0;
+layout(location = 11) flat out vec4 lineYarnC1;
+layout(location = 12) flat out vec3 lineYarnN0;
+layout(location = 13) flat out vec3 lineYarnN1;
+layout(location = 14) flat out vec3 lineYarnB0;
+layout(location = 15) flat out vec3 lineYarnB1;
+layout(location = 16) flat out uint lineCurve;
 
 // Any unit vector ⟂ e.
 vec3 anyPerpendicular(vec3 e) {
@@ -101,6 +112,13 @@ void main() {
     lineT0 = t0;
     lineT1 = t1;
     lineHalfWidth = w;
+    lineYarnC0 = yarnCenterLength[0];
+    lineYarnC1 = yarnCenterLength[1];
+    lineYarnN0 = yarnNormal[0];
+    lineYarnN1 = yarnNormal[1];
+    lineYarnB0 = yarnBinormal[0];
+    lineYarnB1 = yarnBinormal[1];
+    lineCurve = fiberId[0].x;
     gl_Position = view.viewProj * vec4(corners[i], 1.0);
     EmitVertex();
   }

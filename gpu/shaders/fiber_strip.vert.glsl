@@ -9,12 +9,33 @@
 
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
 layout(std430, binding = FT_SSBO_VERTICES) readonly buffer VertexBuffer { FiberVertex vertices[]; };
+layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, sample)
+layout(std430, binding = FT_SSBO_SAMPLES) readonly buffer SampleBuffer { YarnSample samples[]; };
 uniform uint vertexTotal;  // vertices written; the buffer may be longer
+uniform uint listCount;    // listed segments; 0: no yarn samples (a foreign vertex stream)
 
 layout(location = 0) out vec4 fiberPosition;
 layout(location = 1) flat out uvec4 fiberId;
 layout(location = 2) out vec3 fiberTangent;
 layout(location = 3) out float fiberStripEnd;  // 1 at the first or last vertex of a strip
+// The yarn's centre, length coordinate and frame where this vertex was made
+// (the self-shadow lookup of 000 §4.1 works in the yarn cross-section).
+layout(location = 4) out vec4 yarnCenterLength;
+layout(location = 5) out vec3 yarnNormal;
+layout(location = 6) out vec3 yarnBinormal;
+
+// The yarn sample of vertex i: its segment is the last listed one whose
+// vertices start at or before i (offsets[].x ascends), its sample that
+// segment's first plus the vertex index along it.
+YarnSample yarnSampleOf(uint i, uint vertexIndex) {
+  uint lo = 0u, hi = listCount - 1u;
+  while (lo < hi) {
+    uint mid = (lo + hi + 1u) / 2u;
+    if (offsets[mid].x <= i) lo = mid;
+    else hi = mid - 1u;
+  }
+  return samples[offsets[lo].w + vertexIndex];
+}
 
 void main() {
   int i = gl_VertexID;
@@ -30,5 +51,15 @@ void main() {
   fiberId = v.id;
   fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
   fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
+  if (listCount > 0u) {
+    YarnSample ys = yarnSampleOf(uint(i), (v.id.w >> 8u) & 0xFFu);
+    yarnCenterLength = ys.centerLength;
+    yarnNormal = ys.normal.xyz;
+    yarnBinormal = ys.binormal.xyz;
+  } else {
+    yarnCenterLength = vec4(v.position.xyz, 0.0);
+    yarnNormal = vec3(1.0, 0.0, 0.0);
+    yarnBinormal = vec3(0.0, 1.0, 0.0);
+  }
   gl_Position = view.viewProj * vec4(v.position.xyz, 1.0);
 }

@@ -22,6 +22,9 @@ layout(location = 1) flat out uvec4 fiberId;
 // vertex ± 1, 2 of the same fiber, evaluated here, give the strip tangent.
 layout(location = 2) out vec3 fiberTangent;
 layout(location = 3) out float fiberStripEnd;
+layout(location = 4) out vec4 yarnCenterLength;  // the yarn frame here (fiber_strip.vert.glsl says why)
+layout(location = 5) out vec3 yarnNormal;
+layout(location = 6) out vec3 yarnBinormal;
 #endif
 
 void main() {
@@ -67,6 +70,10 @@ void main() {
   }
   fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
   fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
+  YarnSample ys = ftYarnSample(seg, d, vertex);
+  yarnCenterLength = ys.centerLength;
+  yarnNormal = ys.normal.xyz;
+  yarnBinormal = ys.binormal.xyz;
 #endif
   gl_Position = view.viewProj * vec4(fv.position.xyz, 1.0);
 }
