@@ -96,7 +96,12 @@ struct TraceResult {
   // in one yarn segment), 0 at any edge — a silhouette against the background
   // or one fiber's outline over another.
   std::vector<uint8_t> singleStrip;
+  // Per pixel: the FT_FIBER_* type hit by most of its camera samples (the
+  // first in FT_FIBER_* order on a tie), kNoFiberType where none hit. Lets a
+  // comparison pool pixels by fiber type (validation/shading_cases.cpp).
+  std::vector<uint8_t> fiberType;
 };
+inline constexpr uint8_t kNoFiberType = 255;
 
 // Renders `scene` through `camera` (the GPU's: the inverse of projection() ·
 // view() maps each pixel sample to a ray from the near to the far plane;

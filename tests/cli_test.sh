@@ -223,6 +223,7 @@ run_case "render --shading nosuch" 2 "--shading" "nosuch" -- render --shading no
 run_case "render --ambient -1" 2 "--ambient" "-1" -- render --ambient -1 --out "$TMP/x.png"
 run_case "render --light-irradiance nan" 2 "irradiance" -- render --light-irradiance nan --out "$TMP/x.png"
 run_case "render --diffuse 1,2" 2 "--diffuse" "1,2" -- render --diffuse 1,2 --out "$TMP/x.png"
+run_case "render --diffuse 1.5" 2 "--diffuse" "1.5" -- render --diffuse 1.5 --out "$TMP/x.png"
 run_case "render --tonemap nosuch" 2 "--tonemap" "nosuch" -- render --tonemap nosuch --out "$TMP/x.png"
 run_case "render --out x.jpg" 2 "--out" "x.jpg" -- render --out "$TMP/x.jpg"
 run_case "trace --spp 0" 2 "--spp" -- trace --spp 0 --out "$TMP/x.png"

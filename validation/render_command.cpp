@@ -48,6 +48,7 @@ PreparedView prepareView(const ViewOptions& o) {
   v.preset = &findYarnPreset(o.yarn);
   v.shading = makeShadingParams(o.lighting);  // bad lighting options fail before any work
   v.fibers = fitFibers(*v.preset, v.model, o.fiber);
+  v.lod = !o.fiber.allFibers;  // the all-fiber reference drops no fiber into the core
   const YarnParams& params = v.fibers.params;
   if (o.distance == "frame") v.camera = frameModel(v.model, o.viewDir, o.width, o.height);
   else if (o.distance == "near") v.camera = lodCamera(v.model, params, LodDistance::Near, 1.0f, o.width, o.height);
@@ -58,12 +59,12 @@ PreparedView prepareView(const ViewOptions& o) {
   return v;
 }
 
-ViewParams viewParamsOf(const PreparedView& v) { return makeViewParams(v.camera, 1.0f, true, true); }
+ViewParams viewParamsOf(const PreparedView& v) { return makeViewParams(v.camera, 1.0f, v.lod, true); }
 
 std::vector<std::filesystem::path> writeImage(const ViewOptions& o, const ImageRgbaF& image) {
   std::vector<std::filesystem::path> written;
   if (o.out.extension() == ".exr") {
-    writeExr(o.out, image, ExrPixelType::Half);
+    writeExr(o.out, image, ExrPixelType::Float);  // float32: half overflows at 65,504
     written.push_back(o.out);
   }
   std::filesystem::path png = o.out;
