@@ -75,6 +75,16 @@ const FiberSetup& ValidationContext::fiberSetup(const YarnPreset& preset) {
   return *static_cast<FiberSetup*>(slot.get());
 }
 
+const FiberSetup& ValidationContext::allFiberSetup(const YarnPreset& preset) {
+  auto& slot = cache_["preset-all-fibers/" + preset.name];
+  if (!slot) {
+    FiberOptions all = options_.fiber;
+    all.allFibers = true;
+    slot = std::make_shared<FiberSetup>(fitFibers(preset, yarnRadius_, yarnRadiusSource_, all));
+  }
+  return *static_cast<FiberSetup*>(slot.get());
+}
+
 const std::vector<FrameNormal>& ValidationContext::cpuFrames() {
   auto& slot = cache_["frames"];
   if (!slot) slot = std::make_shared<std::vector<FrameNormal>>(computeKnotFramesCpu(buffers_));

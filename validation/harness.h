@@ -74,6 +74,10 @@ class ValidationContext {
   // The preset fitted to yarnRadius() with its fiber table and YarnParams
   // (scene/yarn_radius.h), built once per preset.
   const FiberSetup& fiberSetup(const YarnPreset& preset);
+  // The same preset as the all-fiber reference (FiberOptions::allFibers:
+  // every fiber of the preset explicit, no core; pair it with LoD off), with
+  // the run's other fiber options, built once per preset.
+  const FiberSetup& allFiberSetup(const YarnPreset& preset);
   // The CPU reference's knot frames of the model, computed once.
   const std::vector<FrameNormal>& cpuFrames();
   // Per-key cache for CPU results shared by cases (e.g. both GPU paths).

@@ -108,6 +108,19 @@ glm::vec3 lightDirection(const std::string& light, const Camera& cam) {
   return {0.3f, 0.8f, 0.5f};
 }
 
+// The all-fiber reference of the same view (FiberOptions::allFibers: every
+// fiber of the preset explicit, no core, LoD off), built once per run.
+FiberTraceScene& allFiberScene(ValidationContext& ctx, const GroundTruthInputs& in) {
+  auto& slot = ctx.cache()["shading/all-fiber-scene"];
+  if (!slot) {
+    const FiberSetup& setup = ctx.allFiberSetup(shadingPreset(ctx));
+    const ViewParams view = makeViewParams(in.camera, ctx.options().lodThresholdPx, false, true);
+    const FiberInput input{&ctx.buffers(), &setup.table, setup.params, view};
+    slot = std::make_shared<FiberTraceScene>(generateFibersCpu(input, ctx.cpuFrames()), setup.params);
+  }
+  return *std::static_pointer_cast<FiberTraceScene>(slot);
+}
+
 Lighting caseLighting(const std::string& fabric, glm::vec3 toLight = {0.3f, 0.8f, 0.5f}) {
   Lighting l;
   l.fabric = fabric;
@@ -177,9 +190,11 @@ ShadedGpuImage startCase(ValidationContext& ctx, const std::string& fabric, cons
 // rasteriser's own multisample positions (the same samples decide coverage on
 // both sides; the GPU shades once per pixel per fiber where the truth shades
 // each sample), and with 16 stratified samples for coverage.
+// Coverage does not depend on the light or the fabric: one 16-sample trace
+// serves every case.
 struct DirectTruth {
-  TraceResult truth, truth16;
-  double milliseconds = 0.0;
+  TraceResult truth;
+  std::shared_ptr<TraceResult> truth16;
 };
 
 const DirectTruth& directTruth(ValidationContext& ctx, const GroundTruthInputs& in, const ShadingParams& s,
@@ -187,18 +202,20 @@ const DirectTruth& directTruth(ValidationContext& ctx, const GroundTruthInputs& 
   auto& slot = ctx.cache()["shading/direct-truth/" + key];
   if (!slot) {
     auto t = std::make_shared<DirectTruth>();
-    const auto t0 = Clock::now();
     const std::vector<glm::vec3> table = bakeAmbientTableCpu(s.fabric);
     TraceOptions samples;
     samples.samplePositions = ctx.fiberGpu().shadedSamplePositions();
     samples.samplesPerPixel = static_cast<int>(samples.samplePositions.size());
     samples.shadows = false;
     t->truth = traceFibers(*in.scene, in.camera, s, table, samples);
-    TraceOptions coverage;
-    coverage.samplesPerPixel = 16;
-    coverage.shadows = false;
-    t->truth16 = traceFibers(*in.scene, in.camera, s, table, coverage);
-    t->milliseconds = msSince(t0);
+    auto& coverageSlot = ctx.cache()["shading/coverage-truth"];
+    if (!coverageSlot) {
+      TraceOptions coverage;
+      coverage.samplesPerPixel = 16;
+      coverage.shadows = false;
+      coverageSlot = std::make_shared<TraceResult>(traceFibers(*in.scene, in.camera, s, table, coverage));
+    }
+    t->truth16 = std::static_pointer_cast<TraceResult>(coverageSlot);
     slot = t;
   }
   return *std::static_pointer_cast<DirectTruth>(slot);
@@ -217,19 +234,23 @@ const DirectTruth& directTruth(ValidationContext& ctx, const GroundTruthInputs& 
 //
 // Tolerances, from the worst of both paths, two fabrics, three lights and the
 // three models of ctest (built-in scene, fiber.bcc, glove.bcc; measured values
-// in docs/shading.md), about 3× that and far below what a fault of the kinds
-// above moves (≥ 0.1):
+// in docs/shading.md): 2-8× that, and far below what the faults of the kinds
+// above move (hair black 0.92-0.95, explicit fibers ×1.5 0.46-0.49, TT ×1.2
+// back-lit 0.02-0.18, all pools);
 struct Pool {
   const char* name;
   double tolerance;
   const char* why;
 };
+// the thin pools carry the once-per-pixel shading of a fiber 1-3 px wide,
+// which does not cancel where only a rim is lit (grazing light: loops of the
+// glove 0.069 over 962 px).
 constexpr Pool kPools[] = {
-    {"core", 0.03, "core tubes: wide, mostly interior; measured ≤ 0.01"},
-    {"regular", 0.04, "regular fibers, 2-4 px wide: many edge pixels; measured ≤ 0.013"},
-    {"loop", 0.06, "loop fibers: few pixels, thin; measured ≤ 0.02"},
-    {"hair", 0.08, "hair fibers: 1-3 px wide, nearly all edge pixels; measured ≤ 0.03"},
-    {"silhouette", 0.04, "every non-interior covered pixel; measured ≤ 0.013"},
+    {"core", 0.03, "core tubes: wide, mostly interior; measured ≤ 0.004"},
+    {"regular", 0.06, "regular fibers, 2-4 px wide, many edge pixels; measured ≤ 0.022"},
+    {"loop", 0.15, "loop fibers, thin and few (1-3k px); measured ≤ 0.069 (grazing light)"},
+    {"hair", 0.06, "hair fibers, 1-3 px wide, nearly all edge pixels; measured ≤ 0.021"},
+    {"silhouette", 0.03, "every non-interior covered pixel; measured ≤ 0.0071"},
 };
 // A pool of fewer pixels says nothing: its bias is reported as informational.
 constexpr size_t kMinPoolPixels = 40;
@@ -247,8 +268,8 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, const st
   const auto t1 = Clock::now();
   const DirectTruth& dt = directTruth(ctx, in, s, fabric + "/" + light);
   const TraceResult& truth = dt.truth;
-  const TraceResult& truth16 = dt.truth16;
-  r.cpuMilliseconds = std::max(msSince(t1), dt.milliseconds);
+  const TraceResult& truth16 = *dt.truth16;
+  r.cpuMilliseconds = msSince(t1);  // the first case of a (fabric, light) pays for the shared truth
 
   r.metrics.push_back(nonFiniteMetric("gpu", nonFinite(gpu), "shaded GPU pixel values"));
   r.metrics.push_back(nonFiniteMetric("cpu", truth.stats.nonFinite + truth16.stats.nonFinite + nonFinite(truth.image),
@@ -374,6 +395,59 @@ CaseResult runFull(ValidationContext& ctx, const std::string& fabric, bool tesse
   }
   r.details = fmt::format("fabric {}, {} spp, depth ≤ {}, {} rays, {} paths cut at the depth cap", fabric,
                           full.samplesPerPixel, full.maxDepth, truth.stats.rays(), truth.stats.truncatedPaths);
+  r.finish();
+  return std::move(r);
+}
+
+// The real-time image against the all-fiber reference (every fiber of the
+// preset explicit, no core, no LoD; direct light and the ambient table, no
+// shadows, as the GPU): what the core approximation and LoD cost, which the
+// direct cases cannot see because their truth draws the GPU's own fibers.
+// Informational: it measures the model (000 Fig. 9-10), not a bug; the
+// later fidelity work (core texture, self-shadows) is to bring it down.
+CaseResult runAllFibers(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
+  ShadedGpuImage start = startCase(ctx, fabric, "front", tessellation, name);
+  CaseResult& r = start.result;
+  const GroundTruthInputs& in = *start.inputs;
+  const ShadingParams& s = start.shading;
+  const ImageRgbaF& gpu = start.image;
+  const auto t1 = Clock::now();
+  auto& slot = ctx.cache()["shading/all-fiber-truth/" + fabric];
+  if (!slot) {
+    const FiberTraceScene& scene = allFiberScene(ctx, in);
+    TraceOptions o;
+    o.samplePositions = ctx.fiberGpu().shadedSamplePositions();
+    o.samplesPerPixel = static_cast<int>(o.samplePositions.size());
+    o.shadows = false;
+    auto t = std::make_shared<TraceResult>(traceFibers(scene, in.camera, s, bakeAmbientTableCpu(s.fabric), o));
+    ctx.cache()["shading/all-fiber-segments"] = std::make_shared<size_t>(scene.segmentCount());
+    slot = t;
+  }
+  const TraceResult& truth = *std::static_pointer_cast<TraceResult>(slot);
+  const size_t segments = *std::static_pointer_cast<size_t>(ctx.cache()["shading/all-fiber-segments"]);
+  r.cpuMilliseconds = msSince(t1);
+  r.metrics.push_back(nonFiniteMetric("gpu", nonFinite(gpu), "shaded GPU pixel values"));
+  r.metrics.push_back(nonFiniteMetric("cpu", truth.stats.nonFinite + nonFinite(truth.image), "ground-truth samples"));
+  ImageRgbaF gpuLdr = gpu, truthLdr = truth.image;
+  for (ImageRgbaF* img : {&gpuLdr, &truthLdr})
+    for (size_t i = 0; i < img->pixels.size(); ++i)
+      if (i % 4 != 3) img->pixels[i] = tonemapAces(img->pixels[i]);
+  const FlipResult flipL = flipLdr(truthLdr, gpuLdr);
+  const FlipResult flipH = flipHdr(truth.image, gpu);
+  r.metrics.push_back(Metric{"flip.ldr.mean", double(flipL.pooled.mean), 0.0, "FLIP",
+                             "informational: LDR-FLIP of the real-time image against the all-fiber reference, "
+                             "whole frame",
+                             false});
+  r.metrics.push_back(Metric{"flip.hdr.mean", double(flipH.pooled.mean), 0.0, "FLIP",
+                             "informational: HDR-FLIP against the all-fiber reference, whole frame", false});
+  if (ctx.options().images) {
+    r.images.push_back(ctx.saveImage(toRgba(gpu), name + "-gpu"));
+    r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
+    r.images.push_back(ctx.saveImage(flipImage(flipL), name + "-flip"));
+    r.imageCaptions = {"GPU " + r.path, "all-fiber reference (direct, no shadows)", "LDR-FLIP"};
+  }
+  r.details = fmt::format("fabric {}, all {} fibers per ply explicit, no core, no LoD: {} curve segments", fabric,
+                          ctx.allFiberSetup(shadingPreset(ctx)).params.fiberCount, segments);
   r.finish();
   return std::move(r);
 }
@@ -537,6 +611,10 @@ void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
             fmt::format("shading/direct/{}/{}/{}", fabric, light, tess ? "tessellation" : "compute");
         out.push_back({name, [=](ValidationContext& c) { return runDirect(c, fabric, light, tess, name); }});
       }
+  for (bool tess : {false, true}) {
+    const std::string name = fmt::format("shading/all-fibers/{}/{}", kFullFabric, tess ? "tessellation" : "compute");
+    out.push_back({name, [=](ValidationContext& c) { return runAllFibers(c, kFullFabric, tess, name); }});
+  }
   for (bool tess : {false, true}) {
     const std::string name = fmt::format("shading/full/{}/{}", kFullFabric, tess ? "tessellation" : "compute");
     out.push_back({name, [=](ValidationContext& c) { return runFull(c, kFullFabric, tess, name); }});
