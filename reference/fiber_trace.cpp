@@ -359,7 +359,7 @@ struct Render {
       const vec3 wi = scatter.sample(rng);
       throughput *= scatter.weight(wi);
       if (throughput == vec3(0.0f)) break;
-      if (depth >= 3) {  // Russian roulette
+      if (options->russianRoulette && depth >= 3) {  // Russian roulette
         const float q = std::min(1.0f, std::max({throughput.x, throughput.y, throughput.z}));
         if (rng.next() >= q) break;
         throughput /= q;

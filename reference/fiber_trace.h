@@ -75,6 +75,7 @@ struct TraceOptions {
   bool shadows = true;              // trace V_i towards each light (else V_i = 1)
   bool multipleScattering = false;  // path tracing (modes in traceFibers)
   int maxDepth = 16;                // scattering events per path (multipleScattering)
+  bool russianRoulette = true;      // after 3 scattering events; off: every path runs until it escapes or maxDepth
   uint32_t seed = 1;
   std::function<void(double fraction)> progress;  // called from worker threads, one call at a time
 };

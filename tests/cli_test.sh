@@ -228,6 +228,7 @@ run_case "render --tonemap nosuch" 2 "--tonemap" "nosuch" -- render --tonemap no
 run_case "render --out x.jpg" 2 "--out" "x.jpg" -- render --out "$TMP/x.jpg"
 run_case "trace --spp 0" 2 "--spp" -- trace --spp 0 --out "$TMP/x.png"
 run_case "trace --view 0,0,0" 2 "--view" -- trace --view 0,0,0 --out "$TMP/x.png"
+run_case "trace --all-fibers (small)" 0 -- trace --all-fibers --width 64 --height 48 --spp 1 --out "$TMP/all-fibers.exr"
 expect_absent "render on bad options (no image)" "$TMP/x.png"
 
 # Known gap: `validate` checks --subdivisions / --fibers-per-ply inside each

@@ -829,6 +829,88 @@ TEST(FiberTrace, WhiteFurnaceWithTheShippedDefaultsConvergesToAtMostOne) {
   EXPECT_LT(mean.back() - mean[mean.size() - 2], 0.02) << "depth 64 → 128";
 }
 
+// The all-fiber reference (FiberOptions::allFibers, LoD off): every one of
+// the preset's fiber_num fibers per ply is explicit and no core is drawn (its
+// radius is 0), while the default setup shows core tubes. Checked through
+// TraceResult::fiberType, which the shading cases pool by.
+TEST(FiberTrace, AllFiberReferenceDrawsEveryFiberAndNoCore) {
+  const YarnModel model = makeDefaultScene();
+  const YarnBuffers buffers = buildYarnBuffers(model);
+  const YarnPreset& preset = findYarnPreset("cotton1");
+  FiberOptions all;
+  all.allFibers = true;
+  const FiberSetup every = makeFiberSetup(preset, all), usual = makeFiberSetup(preset, FiberOptions{});
+  EXPECT_EQ(every.params.regularFibers, static_cast<uint32_t>(preset.fiberNum));
+  EXPECT_EQ(every.params.coreRadius, 0.0f);
+  EXPECT_EQ(usual.params.regularFibers, 20u);
+  EXPECT_GT(usual.params.coreRadius, 0.0f);
+  const Camera cam = closeupCamera(model, 96, 72);
+  const auto frames = computeKnotFramesCpu(buffers);
+  ShadingParams s = makeShadingParams(Lighting{});
+  const std::vector<glm::vec3> table = constantTable(glm::vec3(0.5f));
+  TraceOptions o;
+  o.samplesPerPixel = 4;
+  o.shadows = false;
+  auto typeCounts = [&](const FiberSetup& f, bool lod, size_t& fibers) {
+    const FiberInput input{&buffers, &f.table, f.params, makeViewParams(cam, 1.0f, lod, true)};
+    const FiberTraceScene scene(generateFibersCpu(input, frames), f.params);
+    fibers = scene.fiberCount();
+    const TraceResult r = traceFibers(scene, cam, s, table, o);
+    std::array<size_t, 5> n{};
+    for (uint8_t t : r.fiberType) ++n[t == kNoFiberType ? 4 : t];
+    return n;
+  };
+  size_t fibersAll = 0, fibersUsual = 0;
+  const auto nAll = typeCounts(every, false, fibersAll), nUsual = typeCounts(usual, true, fibersUsual);
+  EXPECT_EQ(nAll[FT_FIBER_CORE], 0u);
+  EXPECT_GT(nAll[FT_FIBER_MIGRATION], 1000u);
+  EXPECT_GT(nUsual[FT_FIBER_CORE], 1000u);
+  // 75 fibers per ply against 20 + a core (hairs and loops are counted in their fibers).
+  EXPECT_GT(fibersAll, 3 * fibersUsual);
+}
+
+// Russian roulette must not change the expected value, only the variance:
+// the absorbing slab above (C_R = 0.5, so about half of every bounce is
+// lost and roulette kills many paths), traced with and without it, depth 64
+// (paths cut there carry < 0.5^60). The per-pixel differences of the two
+// estimates (same seed, so correlated; their differences are independent
+// across pixels) must average to 0 within 4σ. A roulette that forgot to
+// divide the survivors by q reads −0.17 here; an upper bound alone
+// (FurnaceOfASlabConservesEnergy) would not see it.
+TEST(FiberTrace, RussianRouletteKeepsTheExpectedValue) {
+  std::vector<Strip> strips;
+  uint32_t id = 0;
+  for (int layer = 0; layer < 3; ++layer)
+    for (int k = -4; k <= 4; ++k)
+      strips = strips + straight({0.0f, 2.0f * k + (layer % 2), -std::sqrt(3.0f) * layer}, {1, 0, 0}, 1.0f, id++);
+  const FiberTraceScene scene(makeGeometry(strips), onePly());
+  const Camera cam = farCamera({0, 0, 0}, 1000.0f, 8.0f, 16, 16);
+  const Fabric f{{0.5, 0.5, 0.5}, {0.8, 0.8, 0.8}, radians(4), radians(10), 4.0};
+  ShadingParams s = furnace(f);
+  s.diffuse = glm::vec4(0.3f, 0.3f, 0.3f, 0.0f);
+  TraceOptions o;
+  o.samplesPerPixel = 64;
+  o.multipleScattering = true;
+  o.maxDepth = 64;
+  const TraceResult with = traceFibers(scene, cam, s, {}, o);
+  o.russianRoulette = false;
+  const TraceResult without = traceFibers(scene, cam, s, {}, o);
+  ASSERT_EQ(with.stats.nonFinite + without.stats.nonFinite, 0u);
+  EXPECT_LT(with.stats.bounceRays, without.stats.bounceRays * 9 / 10);  // roulette does end paths
+  std::vector<double> d;
+  for (size_t i = 0; i < with.image.pixelCount(); ++i)
+    if (with.image.pixels[4 * i + 3] == 1.0f) d.push_back(double(with.image.pixels[4 * i + 1]) - without.image.pixels[4 * i + 1]);
+  ASSERT_EQ(d.size(), 256u);
+  double mean = 0, var = 0;
+  for (double v : d) mean += v / d.size();
+  for (double v : d) var += (v - mean) * (v - mean) / (d.size() - 1);
+  const double sigma = std::sqrt(var / d.size());
+  std::printf("roulette: mean difference %.5f ± %.5f; bounce rays %.3g with, %.3g without\n", mean, sigma,
+              double(with.stats.bounceRays), double(without.stats.bounceRays));
+  EXPECT_LE(std::abs(mean), 4 * sigma);
+  EXPECT_LT(sigma, 0.02);  // tight enough to see a biased roulette
+}
+
 // ---- Determinism --------------------------------------------------------------
 
 // Generated fibers (the built-in scene, LoD on), path traced with shadows:
