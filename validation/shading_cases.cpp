@@ -472,8 +472,16 @@ constexpr double kClosedFormTolerance = 2e-4;
 // the fragment stage, which the wide core does not take. The GPU shades each
 // pixel once at its centre's hit, so fully covered pixels are the closed form
 // at the pixel centre's ray: rows −2..2 around the axis (|dy| + ½ < 4 px).
-CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool thin, bool tessellation,
-                         const std::string& name) {
+// The hair variant: the same thin fiber made a hair in every cell (hair
+// probability 1) with root and free end on the axis (r0 = re = 0, no angular
+// extent), so the hair is the straight tube again but drawn with the hair
+// type: the fragment stage's hair path. Lines across a cell boundary are a
+// hair's free end and are not drawn; the columns are picked where the CPU
+// reference's fibers (traced here, TraceResult::fiberType) show a fully
+// covered hair on the pixel and its neighbours.
+CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, const std::string& shape,
+                         bool tessellation, const std::string& name) {
+  const bool thin = shape != "core", hair = shape == "hair";
   CaseResult r;
   r.name = name;
   r.group = "shading";
@@ -507,6 +515,11 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
     p.fiberRadius = static_cast<float>(radius);
     p.coreRadius = 0.0f;
     p.boundRadius = p.fiberRadius;
+    if (hair) {
+      p.hairProbability = 1.0f;
+      p.flyawayCells = 1;
+      p.hairZeMu = 1.0f;  // the hair spans 95 % of its cell (the rest rejoins; also on the axis)
+    }
   } else {
     // Only the core fiber, on the axis (as strip-width, closeup_cases.cpp).
     p.fiberRadius = 0.001f;
@@ -549,8 +562,28 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
   // (thin: every fully covered row).
   const std::vector<int> rows = thin ? std::vector<int>{-2, -1, 0, 1, 2} : std::vector<int>{-15, -10, -5, 0, 5, 10, 15};
   const uint64_t expectedPixels = 3 * rows.size();
-  for (int x : {100, 160, 220})
+  std::vector<int> columns{100, 160, 220};
+  if (hair) {
+    const FiberInput input{&buffers, &table, p, makeViewParams(cam, 1.0f, false, true)};
+    const FiberTraceScene scene(generateFibersCpu(input, computeKnotFramesCpu(buffers)), p);
+    TraceOptions o;
+    o.samplesPerPixel = 16;
+    o.shadows = false;
+    const TraceResult types = traceFibers(scene, cam, s, std::vector<glm::vec3>(FT_AMBIENT_TABLE_SIZE), o);
+    auto hairColumn = [&](int x) {
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -3; dy <= 3; ++dy) {
+          const size_t i = size_t(cam.height / 2 + dy) * cam.width + size_t(x + dx);
+          if (types.fiberType[i] != FT_FIBER_HAIR || types.image.pixels[i * 4 + 3] < 1.0f) return false;
+        }
+      return true;
+    };
+    for (int& x : columns)
+      while (x < cam.width - 2 && !hairColumn(x)) ++x;
+  }
+  for (int x : columns)
     for (int dy : rows) {
+      if (x >= cam.width - 2) continue;  // no hair column found: counted as missing
       const int y = cam.height / 2 + dy;
       const glm::dvec2 ndc(2.0 * (x + 0.5) / cam.width - 1.0, 1.0 - 2.0 * (y + 0.5) / cam.height);
       const glm::dvec4 nh = toWorld * glm::dvec4(ndc, -1.0, 1.0), fh = toWorld * glm::dvec4(ndc, 1.0, 1.0);
@@ -599,10 +632,11 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
 void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
   for (const char* fabric : kFabrics)
     for (bool tess : {false, true}) {
-      for (bool thin : {false, true}) {
-        const std::string name = fmt::format("shading/closed-form/{}{}/{}", fabric, thin ? "/thin" : "",
+      for (const char* shape : {"core", "thin", "hair"}) {
+        const std::string core = shape == std::string("core") ? "" : std::string("/") + shape;
+        const std::string name = fmt::format("shading/closed-form/{}{}/{}", fabric, core,
                                              tess ? "tessellation" : "compute");
-        out.push_back({name, [=](ValidationContext& c) { return runClosedForm(c, fabric, thin, tess, name); }});
+        out.push_back({name, [=](ValidationContext& c) { return runClosedForm(c, fabric, shape, tess, name); }});
       }
     }
   for (const char* fabric : kFabrics)
