@@ -247,7 +247,7 @@ struct Pool {
 // glove 0.069 over 962 px).
 constexpr Pool kPools[] = {
     {"core", 0.03, "core tubes: wide, mostly interior; measured ≤ 0.004"},
-    {"regular", 0.06, "regular fibers, 2-4 px wide, many edge pixels; measured ≤ 0.022"},
+    {"regular", 0.06, "regular fibers, 2-4 px wide, many edge pixels; measured ≤ 0.024"},
     {"loop", 0.15, "loop fibers, thin and few (1-3k px); measured ≤ 0.069 (grazing light)"},
     {"hair", 0.06, "hair fibers, 1-3 px wide, nearly all edge pixels; measured ≤ 0.021"},
     {"silhouette", 0.03, "every non-interior covered pixel; measured ≤ 0.0071"},
