@@ -165,7 +165,7 @@ void addViewOptions(CLI::App* app, ft::ViewOptions& v, ViewOptionText& text) {
   app->add_option("--light", text.light, "direction towards the (one) directional light, x,y,z")->capture_default_str();
   app->add_option("--light-irradiance", text.irradiance, "its irradiance: one value or r,g,b")->capture_default_str();
   app->add_option("--ambient", text.ambient, "uniform ambient radiance L_amb: one value or r,g,b")->capture_default_str();
-  app->add_option("--diffuse", text.diffuse, "k_d of the diffuse term 000 adds to the BCSDF: one value or r,g,b")
+  app->add_option("--diffuse", text.diffuse, "k_d in [0, 1]: the diffuse share of the scattered energy (the BCSDF gets 1 - k_d): one value or r,g,b")
       ->capture_default_str();
   app->add_option("--exposure", v.display.exposure, "PNG only: exposure in stops before tone mapping")
       ->capture_default_str();
@@ -252,6 +252,9 @@ int main(int argc, char** argv) {
       "trace", "ray-trace the same view with Embree (every fiber a round curve): the ground truth, EXR + PNG");
   addViewOptions(trace, to.view, traceText);
   trace->add_option("--spp", to.samplesPerPixel, "samples per pixel")->capture_default_str()->check(CLI::Range(1, 65536));
+  trace->add_flag("--all-fibers", to.view.fiber.allFibers,
+                  "the all-fiber reference: every fiber of the preset explicit (fiber_num per ply), no core, no LoD "
+                  "(docs/ground-truth.md)");
   trace->add_flag("!--no-shadows", to.shadows, "no shadow rays (the configuration the GPU render matches)");
   trace->add_flag("--multiple-scattering", to.multipleScattering,
                   "path-trace multiple scattering; the ambient then comes from escaping rays")

@@ -49,17 +49,18 @@ PreparedView prepareView(const ViewOptions& o) {
   v.preset = overrideYarnPreset(findYarnPreset(o.yarn), o.presetOverrides);
   v.shading = makeShadingParams(o.lighting);  // bad lighting options fail before any work
   v.fibers = fitFibers(v.preset, v.model, o.fiber);
+  v.lod = !o.fiber.allFibers;  // the all-fiber reference drops no fiber into the core
   v.camera = applyCameraOverride(namedViewCamera(o.distance, v.model, v.fibers.params, o.viewDir, o.width, o.height),
                                  o.camera, v.model);
   return v;
 }
 
-ViewParams viewParamsOf(const PreparedView& v) { return makeViewParams(v.camera, 1.0f, true, true); }
+ViewParams viewParamsOf(const PreparedView& v) { return makeViewParams(v.camera, 1.0f, v.lod, true); }
 
 std::vector<std::filesystem::path> writeImage(const ViewOptions& o, const ImageRgbaF& image) {
   std::vector<std::filesystem::path> written;
   if (o.out.extension() == ".exr") {
-    writeExr(o.out, image, ExrPixelType::Half);
+    writeExr(o.out, image, ExrPixelType::Float);  // float32: half overflows at 65,504
     written.push_back(o.out);
   }
   std::filesystem::path png = o.out;

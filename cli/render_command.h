@@ -62,6 +62,7 @@ struct PreparedView {
   FittedFibers fibers;
   Camera camera;
   ShadingParams shading{};
+  bool lod = true;  // off for the all-fiber reference (FiberOptions::allFibers)
 };
 PreparedView prepareView(const ViewOptions& options);
 ViewParams viewParamsOf(const PreparedView& view);

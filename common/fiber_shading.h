@@ -2,12 +2,17 @@
 // by the GPU fragment stage and the Embree ground truth (reference/).
 // Wu & Yuksel 2019 (000) §4.3 eq. 7 with the cos θ_i that eq. 8 implies
 // (notes-rendering A4 [X]) and the diffuse term of the simple model that 000
-// adds to the BCSDF:
-//   L_o = Σ_i E_i V_i [ f(ω_i, ω_o) cos θ_i + (k_d/π) max(0, n·ω_i) ] + L_amb [ A(θ_o) + k_d ]
+// adds to the BCSDF, as an energy-conserving mix (docs/shading.md):
+//   L_o = Σ_i E_i V_i [ (1 − k_d) f(ω_i, ω_o) cos θ_i + (k_d/π) max(0, n·ω_i) ]
+//         + L_amb [ (1 − k_d) A(θ_o) + k_d ]
 // E_i: irradiance of directional light i (normal to it), V_i its visibility
 // (the GPU path has none yet: 1; the ground truth traces it), n the surface
-// normal of the round fiber, A the ambient table (bcsdf.h). k_d/π is a
-// Lambertian lobe, so under a uniform ambient L_amb it reflects k_d·L_amb.
+// normal of the round fiber, A the ambient table (bcsdf.h). k_d ∈ [0, 1] is
+// the fraction of the scattered energy that leaves through a Lambertian lobe
+// (albedo 1, reflecting k_d·L_amb under a uniform ambient); the BCSDF carries
+// the rest. The BCSDF's albedo F + (1 − F) C_TT is ≤ 1 (B1), so one bounce
+// returns ≤ 1: added on top (000's "we also add the diffuse component"), it
+// returned up to 1 + k_d and a path tracer diverged.
 // The simple model (eq. 5) replaces f by f_spec and drops A.
 #ifndef FT_FIBER_SHADING_H
 #define FT_FIBER_SHADING_H
@@ -42,7 +47,7 @@ struct ShadingParams {
   vec4 lightDirection[FT_MAX_LIGHTS];   // xyz unit vector towards light i, w unused
   vec4 lightIrradiance[FT_MAX_LIGHTS];  // rgb irradiance E_i on a plane normal to the light, w unused
   vec4 ambient;                         // rgb L_amb (uniform ambient radiance), w unused
-  vec4 diffuse;                         // rgb k_d, w unused
+  vec4 diffuse;                         // rgb k_d ∈ [0, 1]: the diffuse share of the scattered energy, w unused
   vec4 simple;                          // x k_s, y β of eq. 5 (radians), zw unused
   uvec4 flags;                          // x light count, y model (FT_SHADING_*), z background alpha 0/1, w FT_APPEARANCE_* bits
   vec4 background;                      // rgb radiance where no fiber is hit, w unused
@@ -55,7 +60,7 @@ FT_ASSERT_OFFSET(ShadingParams, background, 240)
 FT_ASSERT_SIZE(ShadingParams, 256)
 
 // The fiber's response to directional light i, without visibility:
-// E_i [f cos θ_i + (k_d/π) max(0, n·ω_i)].
+// E_i [(1 − k_d) f cos θ_i + (k_d/π) max(0, n·ω_i)].
 FT_FUNC vec3 ftFiberDirect(ShadingParams s, int i, vec3 t, vec3 n, vec3 wo) {
   vec3 wi = vec3(s.lightDirection[i]);
   FiberAngles a = ftFiberAngles(t, wi, wo);
@@ -63,13 +68,13 @@ FT_FUNC vec3 ftFiberDirect(ShadingParams s, int i, vec3 t, vec3 n, vec3 wo) {
                                           : ftBcsdf(s.fabric, a);
   vec3 diffuse = vec3(s.diffuse) * (max(dot(n, wi), 0.0f) / FT_PI);
   float cosThetaI = FT_FAULT_SHADING_COS_DROPPED_ON ? 1.0f : cos(a.thetaI);  // eq. 7 as printed: no cos θ_i
-  return vec3(s.lightIrradiance[i]) * (f * cosThetaI + diffuse);
+  return vec3(s.lightIrradiance[i]) * ((vec3(1.0f) - vec3(s.diffuse)) * f * cosThetaI + diffuse);
 }
 
-// The ambient term L_amb [A(θ_o) + k_d], given A(θ_o) from the table.
+// The ambient term L_amb [(1 − k_d) A(θ_o) + k_d], given A(θ_o) from the table.
 FT_FUNC vec3 ftFiberAmbient(ShadingParams s, vec3 ambientTableValue) {
   vec3 a = s.flags.y == FT_SHADING_SIMPLE ? vec3(0.0f) : ambientTableValue;
-  return vec3(s.ambient) * (a + vec3(s.diffuse));
+  return vec3(s.ambient) * ((vec3(1.0f) - vec3(s.diffuse)) * a + vec3(s.diffuse));
 }
 
 FT_NAMESPACE_END

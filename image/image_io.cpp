@@ -39,6 +39,13 @@ float tonemapAces(float v) {
 }
 
 void writeExr(const std::filesystem::path& path, const ImageRgbaF& image, ExrPixelType type) {
+  if (type == ExrPixelType::Half)
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+      if (std::isfinite(image.pixels[i]) && std::abs(image.pixels[i]) > kHalfMax)
+        throw std::runtime_error(fmt::format("cannot write {} as half-float EXR: pixel ({}, {}) channel {} is {:g}, "
+                                             "beyond the half range ±{:g}",
+                                             path.string(), (i / 4) % image.width, (i / 4) / image.width, i % 4,
+                                             image.pixels[i], kHalfMax));
   try {
     Imf::Header header(image.width, image.height);
     const Imf::PixelType pt = type == ExrPixelType::Half ? Imf::HALF : Imf::FLOAT;

@@ -12,8 +12,13 @@ namespace ft {
 
 enum class ExrPixelType { Half, Float };
 
-// Linear RGBA as written (no tone mapping).
-void writeExr(const std::filesystem::path& path, const ImageRgbaF& image, ExrPixelType type = ExrPixelType::Half);
+// Linear RGBA as written (no tone mapping). Float by default: half tops out
+// at 65,504 and would turn brighter values into inf without a word. Half is
+// refused (std::runtime_error naming the file and the value) when a finite
+// value would not fit.
+void writeExr(const std::filesystem::path& path, const ImageRgbaF& image, ExrPixelType type = ExrPixelType::Float);
+// The largest finite half: values beyond it overflow a Half EXR.
+inline constexpr float kHalfMax = 65504.0f;
 // R, G, B (A = 1 when the file has none); std::invalid_argument naming the
 // file when it cannot be read (the CLI reports it as bad input).
 ImageRgbaF readExr(const std::filesystem::path& path);

@@ -85,14 +85,17 @@ FiberScatter::FiberScatter(const ShadingParams& s, vec3 t, vec3 n, vec3 wo) : un
     // ∫∫ k_s cos(φ/2) exp(−θ_h²/2β²) cos²θ_i dθ_i dφ ≈ k_s · 4 · 2β√(2π) cos²θ_o.
     const double beta = s.simple.y;
     const double c = std::cos(thetaO);
-    longitudinal(s.simple.x * 8.0 * std::sqrt(2.0 * kPi) * beta * c * c, 2.0 * beta, 0.0);
+    longitudinal(meanOf(vec3(1.0f) - vec3(s.diffuse)) * s.simple.x * 8.0 * std::sqrt(2.0 * kPi) * beta * c * c,
+                 2.0 * beta, 0.0);
   } else {
     // Albedos of eq. 6 (notes-rendering B1) with F taken at θ_o: the lobes
     // send θ_i to about −θ_o, and F is even.
     const FabricParams& p = s.fabric;
+    // The BCSDF carries 1 − k_d of the energy (fiber_shading.h).
+    const vec3 share = vec3(1.0f) - vec3(s.diffuse);
     const vec3 fresnel = ftFiberFresnel(vec3(p.colorR), thetaO_);
-    longitudinal(meanOf(fresnel), p.colorR.w, 0.0);
-    longitudinal(meanOf((vec3(1.0f) - fresnel) * vec3(p.colorTT)), p.colorTT.w, p.lobes.y);
+    longitudinal(meanOf(share * fresnel), p.colorR.w, 0.0);
+    longitudinal(meanOf(share * (vec3(1.0f) - fresnel) * vec3(p.colorTT)), p.colorTT.w, p.lobes.y);
   }
   if (const double kd = meanOf(vec3(s.diffuse)); kd > 0.0) lobes_[lobeCount_++] = {kd, true};
   for (int i = 0; i < lobeCount_; ++i) total_ += lobes_[i].probability;

@@ -2,7 +2,7 @@
 // common/fiber_shading.h for the path-traced ground truth (CPU only; the GPU
 // never samples). The integrand at a fiber point is the bracket of
 // fiber_shading.h per unit incident radiance,
-//   h(ω_i) = f(ω_i, ω_o) cos θ_i + (k_d/π) max(0, n·ω_i),
+//   h(ω_i) = (1 − k_d) f(ω_i, ω_o) cos θ_i + (k_d/π) max(0, n·ω_i),
 // with f the BCSDF of 000 §4.3 eq. 6 (or the simple model, eq. 5). A
 // continuation direction is drawn from a one-sample mixture of its lobes
 // (notes-rendering §0.2):
@@ -11,7 +11,7 @@
 //   simple:  θ_i likewise with 2β (eq. 5's exp(−θ_h²/2β²), θ_h = (θ_i + θ_o)/2), φ uniform;
 //   diffuse: cosine about the surface normal n.
 // Each lobe is picked with the probability of its albedo at θ_o (R: F(θ_o),
-// TT: (1 − F(θ_o)) C_TT, diffuse: k_d, averaged over RGB), and the weight
+// TT: (1 − F(θ_o)) C_TT, both times 1 − k_d, diffuse: k_d, averaged over RGB), and the weight
 // divides h by the mixture's density in solid angle, dω = cos θ dθ dφ, so
 // the estimate is unbiased whatever the pick probabilities are.
 #pragma once

@@ -32,10 +32,13 @@ bool stripNeighbour(const uvec4& a, const uvec4& b, int step) {
 }
 
 // fiber_strip.geom.glsl's rule for the line between two consecutive vertices
-// of a strip: not across a hair's free end, not of zero length.
+// of a strip: not across a hair's free end, not of zero length. A line of
+// zero radius at both ends is not a tube: the core of the all-fiber
+// reference (FiberOptions::allFibers), which has no core fibers left.
 bool lineDrawn(const FiberVertex& a, const FiberVertex& b) {
   const bool periodChange = (a.id.w >> 16u) != (b.id.w >> 16u);
   if (periodChange && ((a.id.w & 0xFFu) == FT_FIBER_HAIR || (b.id.w & 0xFFu) == FT_FIBER_HAIR)) return false;
+  if (!(a.position.w > 0.0f) && !(b.position.w > 0.0f)) return false;
   const vec3 chord = vec3(b.position) - vec3(a.position);
   return dot(chord, chord) > 0.0f;
 }
@@ -85,6 +88,7 @@ struct StripInfo {
   uint32_t fiber;    // dense id of (yarn, ply, fiber)
   uint32_t segment;  // global yarn segment (consecutive along a curve)
   float length;      // of its drawn lines
+  uint32_t type;     // FT_FIBER_* of its first vertex (a strip is one fiber type)
 };
 
 struct FiberTraceScene::Impl {
@@ -159,7 +163,8 @@ FiberTraceScene::FiberTraceScene(const FiberGeometry& g, const YarnParams& param
     if (strip != lastStrip) {
       const uvec4 id = g.vertices[i].id;  // yarn (x) and ply << 16 | fiber (z) name the fiber across segments
       const uint64_t key = (uint64_t(id.x) << 32) | id.z;
-      m.strips.push_back({fiberIds.try_emplace(key, static_cast<uint32_t>(fiberIds.size())).first->second, id.y, 0.0f});
+      m.strips.push_back({fiberIds.try_emplace(key, static_cast<uint32_t>(fiberIds.size())).first->second, id.y, 0.0f,
+                          id.w & 0xFFu});
     } else if (m.firstVertex[at - 1] + 1 == i) {  // joined to the previous line of the strip
       m.neighbours[at - 1] |= RTC_CURVE_FLAG_NEIGHBOR_RIGHT;
       m.neighbours[at] |= RTC_CURVE_FLAG_NEIGHBOR_LEFT;
@@ -354,7 +359,7 @@ struct Render {
       const vec3 wi = scatter.sample(rng);
       throughput *= scatter.weight(wi);
       if (throughput == vec3(0.0f)) break;
-      if (depth >= 3) {  // Russian roulette
+      if (options->russianRoulette && depth >= 3) {  // Russian roulette
         const float q = std::min(1.0f, std::max({throughput.x, throughput.y, throughput.z}));
         if (rng.next() >= q) break;
         throughput /= q;
@@ -407,7 +412,8 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
   const int width = camera.width, height = camera.height, spp = options.samplesPerPixel;
   const vec3 background(s.background);
 
-  TraceResult result{ImageRgbaF(width, height), {}, std::vector<uint8_t>(size_t(width) * height, 0)};
+  TraceResult result{ImageRgbaF(width, height), {}, std::vector<uint8_t>(size_t(width) * height, 0),
+                     std::vector<uint8_t>(size_t(width) * height, kNoFiberType)};
   const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
   std::atomic<uint64_t> totals[6] = {};
   int tilesDone = 0;  // guarded by progressMutex
@@ -432,6 +438,7 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
           int hits = 0;
           uint32_t firstStrip = kNoStrip;
           bool oneStrip = true;
+          int typeCount[4] = {0, 0, 0, 0};
           for (int k = 0; k < spp; ++k) {
             RandomStream rng(pixel, static_cast<uint32_t>(k), options.seed);
             const glm::dvec2 j = options.samplePositions.empty() ? pixelSample(k, spp, grid, perm, rng)
@@ -449,6 +456,7 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
             }
             ++hits;
             if (firstStrip == kNoStrip) firstStrip = h.strip;
+            ++typeCount[std::min<uint32_t>(render.scene->strips[h.strip].type, 3u)];
             oneStrip = oneStrip && h.strip == firstStrip;
             const vec3 L = options.multipleScattering ? render.path(h, -dir, rng, stats)
                                                       : render.direct(h, -dir, stats) + render.ambient(h, -dir);
@@ -465,6 +473,7 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
           px[2] = static_cast<float>(mean.z);
           px[3] = static_cast<float>(double(hits) / spp);
           result.singleStrip[pixel] = hits == spp && oneStrip;
+          if (hits > 0) result.fiberType[pixel] = static_cast<uint8_t>(std::max_element(typeCount, typeCount + 4) - typeCount);
           stats.hitSamples += static_cast<uint64_t>(hits);
         }
       const uint64_t counts[6] = {stats.cameraRays, stats.shadowRays,     stats.bounceRays,

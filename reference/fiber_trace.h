@@ -75,6 +75,7 @@ struct TraceOptions {
   bool shadows = true;              // trace V_i towards each light (else V_i = 1)
   bool multipleScattering = false;  // path tracing (modes in traceFibers)
   int maxDepth = 16;                // scattering events per path (multipleScattering)
+  bool russianRoulette = true;      // after 3 scattering events; off: every path runs until it escapes or maxDepth
   uint32_t seed = 1;
   std::function<void(double fraction)> progress;  // called from worker threads, one call at a time
 };
@@ -96,7 +97,12 @@ struct TraceResult {
   // in one yarn segment), 0 at any edge — a silhouette against the background
   // or one fiber's outline over another.
   std::vector<uint8_t> singleStrip;
+  // Per pixel: the FT_FIBER_* type hit by most of its camera samples (the
+  // first in FT_FIBER_* order on a tie), kNoFiberType where none hit. Lets a
+  // comparison pool pixels by fiber type (validation/shading_cases.cpp).
+  std::vector<uint8_t> fiberType;
 };
+inline constexpr uint8_t kNoFiberType = 255;
 
 // Renders `scene` through `camera` (the GPU's: the inverse of projection() ·
 // view() maps each pixel sample to a ray from the near to the far plane;

@@ -38,6 +38,12 @@ ShadingParams makeShadingParams(const Lighting& l) {
   s.flags.x = static_cast<uint32_t>(l.lights.size());
   checkColor(l.ambient, "--ambient");
   checkColor(l.diffuse, "--diffuse");
+  // k_d is the diffuse share of the scattered energy (fiber_shading.h): above
+  // 1 the BCSDF's weight 1 − k_d would turn negative.
+  if (l.diffuse.x > 1.0f || l.diffuse.y > 1.0f || l.diffuse.z > 1.0f)
+    throw InputError(fmt::format("--diffuse: {},{},{} is above 1 (k_d is the diffuse share of the scattered energy, "
+                                 "in [0, 1])",
+                                 l.diffuse.x, l.diffuse.y, l.diffuse.z));
   checkColor(l.background, "background");
   if (!std::isfinite(l.simpleSpecular) || l.simpleSpecular < 0.0f)
     throw InputError(fmt::format("k_s: {} is not a finite non-negative number", l.simpleSpecular));

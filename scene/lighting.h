@@ -21,7 +21,7 @@ struct Lighting {
   std::string model = "khungurn";     // khungurn (eq. 6 + ambient table) or simple (eq. 5)
   std::vector<DirectionalLight> lights{DirectionalLight{}};
   glm::vec3 ambient{0.1f};            // uniform ambient radiance L_amb
-  glm::vec3 diffuse{0.4f};           // k_d of the diffuse term 000 adds to the BCSDF
+  glm::vec3 diffuse{0.4f};            // k_d ∈ [0, 1]: the diffuse share of the energy (fiber_shading.h)
   float simpleSpecular = 0.5f;        // k_s of eq. 5
   float simpleBetaDegrees = 5.0f;     // β of eq. 5 (000 gives no value; notes-rendering A4 [F])
   glm::vec3 background{0.0f};         // radiance behind the fibers

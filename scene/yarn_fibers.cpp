@@ -45,8 +45,12 @@ std::vector<FiberCoord> makeFiberTable(const YarnPreset& preset, uint32_t seed) 
   return table;
 }
 
+uint32_t regularFibersOf(const YarnPreset& preset, const FiberOptions& options) {
+  return options.allFibers ? static_cast<uint32_t>(preset.fiberNum) : options.regularFibersPerPly;
+}
+
 void checkFiberOptions(const YarnPreset& preset, const FiberOptions& options) {
-  if (options.regularFibersPerPly > static_cast<uint32_t>(preset.fiberNum))
+  if (!options.allFibers && options.regularFibersPerPly > static_cast<uint32_t>(preset.fiberNum))
     throw InputError(fmt::format("--fibers-per-ply: {} exceeds the {} fibers per ply of yarn '{}'",
                                  options.regularFibersPerPly, preset.fiberNum, preset.name));
   if (options.maxSubdivisions < 1 || options.maxSubdivisions > FT_MAX_SUBDIVISIONS)
@@ -68,7 +72,7 @@ YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord
   YarnParams p{};
   p.plyCount = static_cast<uint32_t>(preset.plyNum);
   p.fiberCount = static_cast<uint32_t>(preset.fiberNum);
-  p.regularFibers = options.regularFibersPerPly;
+  p.regularFibers = regularFibersOf(preset, options);
   p.maxSubdivisions = options.maxSubdivisions;
   p.plyRadius = static_cast<float>(preset.yarnRadius / 2.0);
   p.ellipseN = static_cast<float>(preset.ellipseShort);

@@ -14,6 +14,12 @@ namespace ft {
 
 struct FiberOptions {
   uint32_t regularFibersPerPly = 20;  // outermost fibers drawn individually; the rest form the core (§3.2)
+  // The all-fiber reference (docs/ground-truth.md): every fiber of the preset
+  // (fiber_num per ply) explicit, so no core (its radius is 0 and nothing
+  // draws it); regularFibersPerPly is then ignored. Loop and hair fibers keep
+  // the preset's densities per unit length. Pair with LoD off
+  // (allFiberViewParams) so no fiber is dropped into the core.
+  bool allFibers = false;
   uint32_t maxSubdivisions = 32;      // cap on line segments per fiber per yarn segment (the screen decides, lod.h)
   float fiberRadius = 0.0008f;        // drawn fiber half-width at the preset's own scale (8 µm if units are cm)
   uint32_t seed = 1;
@@ -45,6 +51,9 @@ void checkFiberOptions(const YarnPreset& preset, const FiberOptions& options);
 // InputError for options out of range.
 YarnParams makeYarnParams(const YarnPreset& preset, const std::vector<FiberCoord>& table,
                           const FiberOptions& options);
+
+// The regular fibers per ply `options` asks for: fiber_num with allFibers.
+uint32_t regularFibersOf(const YarnPreset& preset, const FiberOptions& options);
 
 // What both generators read for one preset: the fiber table (seeded by
 // options.seed) and the YarnParams made from it.

@@ -223,6 +223,7 @@ run_case "render --shading nosuch" 2 "--shading" "nosuch" -- render --shading no
 run_case "render --ambient -1" 2 "--ambient" "-1" -- render --ambient -1 --out "$TMP/x.png"
 run_case "render --light-irradiance nan" 2 "irradiance" -- render --light-irradiance nan --out "$TMP/x.png"
 run_case "render --diffuse 1,2" 2 "--diffuse" "1,2" -- render --diffuse 1,2 --out "$TMP/x.png"
+run_case "render --diffuse 1.5" 2 "--diffuse" "1.5" -- render --diffuse 1.5 --out "$TMP/x.png"
 run_case "render --tonemap nosuch" 2 "--tonemap" "nosuch" -- render --tonemap nosuch --out "$TMP/x.png"
 run_case "render --out x.jpg" 2 "--out" "x.jpg" -- render --out "$TMP/x.jpg"
 run_case "trace --spp 0" 2 "--spp" -- trace --spp 0 --out "$TMP/x.png"
@@ -244,6 +245,7 @@ run_case "render --set alpha=nan" 2 "--set" "alpha" "'nan'" -- render --set alph
 run_case "trace --set rho_min=2" 2 "--set" "rho_min" "'2'" "rho_max" -- trace --set rho_min=2 --out "$TMP/x.png"
 run_case "trace --set ply_num=4 --set fiber_num=0" 2 "fiber_num" "'0'" -- \
   trace --set ply_num=4 --set fiber_num=0 --out "$TMP/x.png"
+run_case "trace --all-fibers (small)" 0 -- trace --all-fibers --width 64 --height 48 --spp 1 --out "$TMP/all-fibers.exr"
 expect_absent "render on bad options (no image)" "$TMP/x.png"
 
 # Known gap: `validate` checks --subdivisions / --fibers-per-ply inside each

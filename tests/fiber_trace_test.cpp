@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "scene/camera.h"
 #include "scene/default_scene.h"
 #include "scene/fabric.h"
+#include "scene/lighting.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_preset.h"
 
@@ -419,8 +421,10 @@ TEST(FiberTrace, DirectShadingMatchesEquation6) {
                                       FT_AMBIENT_TABLE_SIZE - 1.0);
           for (int c = 0; c < 3; ++c) {
             const double f = bcsdf(fabric, c, a.thetaI, a.thetaO, a.phi);
-            expected[c] += (E[c] * (f * std::cos(a.thetaI) + kd[c] / kPi * std::max(0.0, glm::dot(n, wi))) +
-                            Lamb[c] * (base[c] + slope[c] * u + kd[c])) / 64.0;
+            // The energy-conserving mix: the BCSDF carries 1 − k_d, the Lambertian lobe k_d.
+            expected[c] += (E[c] * ((1.0 - kd[c]) * f * std::cos(a.thetaI) +
+                                    kd[c] / kPi * std::max(0.0, glm::dot(n, wi))) +
+                            Lamb[c] * ((1.0 - kd[c]) * (base[c] + slope[c] * u) + kd[c])) / 64.0;
           }
         }
       const float* px = res.image.at(2, 2);
@@ -769,6 +773,142 @@ TEST(FiberTrace, FurnaceOfASlabConservesEnergy) {
       EXPECT_LT(px.mean, 0.75);
     }
   }
+}
+
+// The white furnace with the shipped defaults (scene/lighting.h: fabric
+// cotton, k_d = 0.4; yarn cotton1 with its 20 regular fibers per ply and
+// core, LoD on, as the harness) on the built-in scene, lights off, a unit
+// environment: every bounce returns (1 − k_d) A(θ_o) + k_d of what it sees,
+// so the mean radiance of the covered pixels must stay ≤ 1 however long the
+// paths grow, and approach its limit. With k_d added on top of the BCSDF
+// (000's wording) it was 2.0 at depth 8 and 264 at depth 32. Paths of depth
+// 2d begin with the paths of depth d (the same random numbers: a path draws
+// nothing at its last event), so m(2d) − m(d) ≥ 0 is exactly what bounces
+// d+1..2d bring, and once d passes the typical path length it must shrink.
+// The bound is 1 + 4σ of the mean (pixels are independent). Cotton absorbs
+// almost nothing (C_TT = 0.999), so the limit is close to 1 (0.992 measured).
+TEST(FiberTrace, WhiteFurnaceWithTheShippedDefaultsConvergesToAtMostOne) {
+  const YarnModel model = makeDefaultScene();
+  const YarnBuffers buffers = buildYarnBuffers(model);
+  const FiberSetup fibers = makeFiberSetup(findYarnPreset("cotton1"), FiberOptions{});
+  const Camera cam = closeupCamera(model, 64, 48);
+  const FiberInput input{&buffers, &fibers.table, fibers.params, makeViewParams(cam, 1.0f, true, true)};
+  const FiberTraceScene scene(generateFibersCpu(input, computeKnotFramesCpu(buffers)), fibers.params);
+  ShadingParams s = makeShadingParams(Lighting{});
+  ASSERT_EQ(s.diffuse.x, 0.4f);  // the default this test is about
+  s.flags.x = 0;                 // no lights: the environment only
+  s.ambient = glm::vec4(1, 1, 1, 0);
+  s.background = glm::vec4(1, 1, 1, 0);
+  const int depths[] = {4, 8, 16, 32, 64, 128};
+  std::vector<double> mean, sigma;
+  for (const int depth : depths) {
+    TraceOptions o;
+    o.samplesPerPixel = 4;
+    o.multipleScattering = true;
+    o.shadows = false;
+    o.maxDepth = depth;
+    const TraceResult res = traceFibers(scene, cam, s, {}, o);
+    ASSERT_EQ(res.stats.nonFinite, 0u);
+    const PixelStats px = coveredPixels(res.image);
+    ASSERT_GT(px.values.size(), 500u);
+    mean.push_back(px.mean);
+    sigma.push_back(px.sigma / std::sqrt(double(px.values.size())));
+    std::printf("furnace depth %2d: mean %.5f ± %.5f over %zu pixels, %.3g bounce rays, %llu paths cut\n", depth,
+                px.mean, sigma.back(), px.values.size(), double(res.stats.bounceRays),
+                static_cast<unsigned long long>(res.stats.truncatedPaths));
+  }
+  for (size_t k = 0; k < mean.size(); ++k) EXPECT_LE(mean[k], 1.0 + 4 * sigma[k]) << "depth " << depths[k];
+  EXPECT_GT(mean.back(), 0.5);  // the furnace is lit: the check can fail
+  for (size_t k = 1; k < mean.size(); ++k) EXPECT_GE(mean[k], mean[k - 1]) << "depth " << depths[k];
+  // Cotton is nearly lossless and the close-up is yarn seen from above: paths
+  // bounce tens of times before they escape, so the gains grow up to depth
+  // 16 (measured +0.25 per doubling) and shrink from there (16 → 32: 0.18,
+  // 32 → 64: 0.05) towards a limit just under 1.
+  for (size_t k = 3; k < mean.size(); ++k)
+    EXPECT_LT(mean[k] - mean[k - 1], mean[k - 1] - mean[k - 2]) << "depth " << depths[k];
+  EXPECT_LT(mean.back() - mean[mean.size() - 2], 0.02) << "depth 64 → 128";
+}
+
+// The all-fiber reference (FiberOptions::allFibers, LoD off): every one of
+// the preset's fiber_num fibers per ply is explicit and no core is drawn (its
+// radius is 0), while the default setup shows core tubes. Checked through
+// TraceResult::fiberType, which the shading cases pool by.
+TEST(FiberTrace, AllFiberReferenceDrawsEveryFiberAndNoCore) {
+  const YarnModel model = makeDefaultScene();
+  const YarnBuffers buffers = buildYarnBuffers(model);
+  const YarnPreset& preset = findYarnPreset("cotton1");
+  FiberOptions all;
+  all.allFibers = true;
+  const FiberSetup every = makeFiberSetup(preset, all), usual = makeFiberSetup(preset, FiberOptions{});
+  EXPECT_EQ(every.params.regularFibers, static_cast<uint32_t>(preset.fiberNum));
+  EXPECT_EQ(every.params.coreRadius, 0.0f);
+  EXPECT_EQ(usual.params.regularFibers, 20u);
+  EXPECT_GT(usual.params.coreRadius, 0.0f);
+  const Camera cam = closeupCamera(model, 96, 72);
+  const auto frames = computeKnotFramesCpu(buffers);
+  ShadingParams s = makeShadingParams(Lighting{});
+  const std::vector<glm::vec3> table = constantTable(glm::vec3(0.5f));
+  TraceOptions o;
+  o.samplesPerPixel = 4;
+  o.shadows = false;
+  auto typeCounts = [&](const FiberSetup& f, bool lod, size_t& fibers) {
+    const FiberInput input{&buffers, &f.table, f.params, makeViewParams(cam, 1.0f, lod, true)};
+    const FiberTraceScene scene(generateFibersCpu(input, frames), f.params);
+    fibers = scene.fiberCount();
+    const TraceResult r = traceFibers(scene, cam, s, table, o);
+    std::array<size_t, 5> n{};
+    for (uint8_t t : r.fiberType) ++n[t == kNoFiberType ? 4 : t];
+    return n;
+  };
+  size_t fibersAll = 0, fibersUsual = 0;
+  const auto nAll = typeCounts(every, false, fibersAll), nUsual = typeCounts(usual, true, fibersUsual);
+  EXPECT_EQ(nAll[FT_FIBER_CORE], 0u);
+  EXPECT_GT(nAll[FT_FIBER_MIGRATION], 1000u);
+  EXPECT_GT(nUsual[FT_FIBER_CORE], 1000u);
+  // 75 fibers per ply against 20 + a core (hairs and loops are counted in their fibers).
+  EXPECT_GT(fibersAll, 3 * fibersUsual);
+}
+
+// Russian roulette must not change the expected value, only the variance:
+// the absorbing slab above (C_R = 0.5, so about half of every bounce is
+// lost and roulette kills many paths), traced with and without it, depth 64
+// (paths cut there carry < 0.5^60). The per-pixel differences of the two
+// estimates (same seed, so correlated; their differences are independent
+// across pixels) must average to 0 within 4σ. A roulette that forgot to
+// divide the survivors by q reads −0.17 here; an upper bound alone
+// (FurnaceOfASlabConservesEnergy) would not see it.
+TEST(FiberTrace, RussianRouletteKeepsTheExpectedValue) {
+  std::vector<Strip> strips;
+  uint32_t id = 0;
+  for (int layer = 0; layer < 3; ++layer)
+    for (int k = -4; k <= 4; ++k)
+      strips = strips + straight({0.0f, 2.0f * k + (layer % 2), -std::sqrt(3.0f) * layer}, {1, 0, 0}, 1.0f, id++);
+  const FiberTraceScene scene(makeGeometry(strips), onePly());
+  const Camera cam = farCamera({0, 0, 0}, 1000.0f, 8.0f, 16, 16);
+  const Fabric f{{0.5, 0.5, 0.5}, {0.8, 0.8, 0.8}, radians(4), radians(10), 4.0};
+  ShadingParams s = furnace(f);
+  s.diffuse = glm::vec4(0.3f, 0.3f, 0.3f, 0.0f);
+  TraceOptions o;
+  o.samplesPerPixel = 64;
+  o.multipleScattering = true;
+  o.maxDepth = 64;
+  const TraceResult with = traceFibers(scene, cam, s, {}, o);
+  o.russianRoulette = false;
+  const TraceResult without = traceFibers(scene, cam, s, {}, o);
+  ASSERT_EQ(with.stats.nonFinite + without.stats.nonFinite, 0u);
+  EXPECT_LT(with.stats.bounceRays, without.stats.bounceRays * 9 / 10);  // roulette does end paths
+  std::vector<double> d;
+  for (size_t i = 0; i < with.image.pixelCount(); ++i)
+    if (with.image.pixels[4 * i + 3] == 1.0f) d.push_back(double(with.image.pixels[4 * i + 1]) - without.image.pixels[4 * i + 1]);
+  ASSERT_EQ(d.size(), 256u);
+  double mean = 0, var = 0;
+  for (double v : d) mean += v / d.size();
+  for (double v : d) var += (v - mean) * (v - mean) / (d.size() - 1);
+  const double sigma = std::sqrt(var / d.size());
+  std::printf("roulette: mean difference %.5f ± %.5f; bounce rays %.3g with, %.3g without\n", mean, sigma,
+              double(with.stats.bounceRays), double(without.stats.bounceRays));
+  EXPECT_LE(std::abs(mean), 4 * sigma);
+  EXPECT_LT(sigma, 0.02);  // tight enough to see a biased roulette
 }
 
 // ---- Determinism --------------------------------------------------------------

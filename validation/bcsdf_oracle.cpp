@@ -151,9 +151,9 @@ glm::dvec3 fiberRadiance(const Fabric& f, const Lighting& l, glm::dvec3 t, glm::
   double thetaI = 0, thetaO = 0, phi = 0;
   localAngles(t, l.toLight, wo, thetaI, thetaO, phi);
   const glm::dvec3 direct =
-      l.irradiance * (bcsdf(f, thetaI, thetaO, phi) * std::cos(thetaI) +
+      l.irradiance * ((glm::dvec3(1.0) - l.diffuse) * bcsdf(f, thetaI, thetaO, phi) * std::cos(thetaI) +
                       l.diffuse * (std::max(glm::dot(n, l.toLight), 0.0) / kPi));
-  return direct + l.ambient * (ambientIntegral(f, thetaO) + l.diffuse);
+  return direct + l.ambient * ((glm::dvec3(1.0) - l.diffuse) * ambientIntegral(f, thetaO) + l.diffuse);
 }
 
 }  // namespace ft::oracle

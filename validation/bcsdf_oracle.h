@@ -57,7 +57,8 @@ Nodes panelNodes(double a, double b, std::vector<double> cuts, double maxPanel, 
 glm::dvec3 bcsdf(const Fabric& f, double thetaI, double thetaO, double phi);
 // The ambient integral A(θ_o) = ∫ [F M_R + (1 − F) C_TT M_TT] cos²θ_i dθ_i.
 glm::dvec3 ambientIntegral(const Fabric& f, double thetaO);
-// The radiance of eq. 7 (with eq. 8's cos θ_i and the k_d/π diffuse term) at
+// The radiance of eq. 7 (with eq. 8's cos θ_i; the BCSDF weighted 1 − k_d and
+// the k_d/π diffuse term, an energy-conserving mix: docs/shading.md) at
 // a fiber point with unit tangent t and normal n, seen along ω_o (towards the
 // eye), under one directional light (unit ω_i, irradiance E) and a uniform
 // ambient L_amb.

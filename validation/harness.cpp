@@ -69,6 +69,14 @@ const FiberSetup& ValidationContext::fiberSetup(const YarnPreset& preset) {
   });
 }
 
+const FiberSetup& ValidationContext::allFiberSetup(const YarnPreset& preset) {
+  return cached(CacheKey<FiberSetup>{"preset-all-fibers/" + preset.name}, [&]() -> FiberSetup {
+    FiberOptions all = options_.fiber;
+    all.allFibers = true;
+    return fitFibers(preset, yarnRadius_, yarnRadiusSource_, all);
+  });
+}
+
 const std::vector<FrameNormal>& ValidationContext::cpuFrames() {
   return cached(CacheKey<std::vector<FrameNormal>>{"frames"}, [&] { return computeKnotFramesCpu(buffers_); });
 }

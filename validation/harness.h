@@ -89,6 +89,10 @@ class ValidationContext {
   // The preset fitted to yarnRadius() with its fiber table and YarnParams
   // (scene/yarn_radius.h), built once per preset.
   const FiberSetup& fiberSetup(const YarnPreset& preset);
+  // The same preset as the all-fiber reference (FiberOptions::allFibers:
+  // every fiber of the preset explicit, no core; pair it with LoD off), with
+  // the run's other fiber options, built once per preset.
+  const FiberSetup& allFiberSetup(const YarnPreset& preset);
   // The CPU reference's knot frames of the model, computed once.
   const std::vector<FrameNormal>& cpuFrames();
   // Results shared by cases (e.g. one CPU reference for both GPU paths):

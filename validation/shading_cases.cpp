@@ -91,10 +91,37 @@ GroundTruthInputs& groundTruthInputs(ValidationContext& ctx) {
   });
 }
 
-Lighting caseLighting(const std::string& fabric) {
+// The light of a case. front: from above and beside the camera (most of the
+// light comes back towards the eye: R and the diffuse term). back: from
+// behind the fibers, 20° off the view axis, so most of what reaches the eye
+// is transmitted (TT, 000 eq. 6; a TT error is invisible from the front).
+// grazing: from the side, 10° out of the image plane, so the lit side of
+// each fiber is a thin rim and the normal's direction decides the picture.
+const char* const kLights[] = {"front", "back", "grazing"};
+
+glm::vec3 lightDirection(const std::string& light, const Camera& cam) {
+  const glm::vec3 v = glm::normalize(cam.eye - cam.target);  // towards the camera
+  const glm::vec3 r = glm::normalize(glm::cross(cam.up, v)), u = glm::cross(v, r);
+  if (light == "back") return glm::normalize(-std::cos(glm::radians(20.0f)) * v + std::sin(glm::radians(20.0f)) * u);
+  if (light == "grazing") return glm::normalize(std::cos(glm::radians(10.0f)) * r + std::sin(glm::radians(10.0f)) * v);
+  return {0.3f, 0.8f, 0.5f};
+}
+
+// The all-fiber reference of the same view (FiberOptions::allFibers: every
+// fiber of the preset explicit, no core, LoD off), built once per run.
+FiberTraceScene& allFiberScene(ValidationContext& ctx, const GroundTruthInputs& in) {
+  return ctx.cached(CacheKey<FiberTraceScene>{"shading/all-fiber-scene"}, [&] {
+    const FiberSetup& setup = ctx.allFiberSetup(shadingPreset(ctx));
+    const ViewParams view = makeViewParams(in.camera, ctx.options().lodThresholdPx, false, true);
+    const FiberInput input{&ctx.buffers(), &setup.table, setup.params, view};
+    return FiberTraceScene(generateFibersCpu(input, ctx.cpuFrames()), setup.params);
+  });
+}
+
+Lighting caseLighting(const std::string& fabric, glm::vec3 toLight = {0.3f, 0.8f, 0.5f}) {
   Lighting l;
   l.fabric = fabric;
-  l.lights = {DirectionalLight{{0.3f, 0.8f, 0.5f}, glm::vec3(3.0f)}};
+  l.lights = {DirectionalLight{toLight, glm::vec3(3.0f)}};
   return l;
 }
 
@@ -144,9 +171,10 @@ struct ShadedGpuImage {
   ImageRgbaF image;
 };
 
-ShadedGpuImage startCase(ValidationContext& ctx, const std::string& fabric, bool tessellation,
-                         const std::string& name) {
-  ShadedGpuImage c{CaseResult{}, &groundTruthInputs(ctx), makeShadingParams(caseLighting(fabric)), {}};
+ShadedGpuImage startCase(ValidationContext& ctx, const std::string& fabric, const std::string& light,
+                         bool tessellation, const std::string& name) {
+  GroundTruthInputs& in = groundTruthInputs(ctx);
+  ShadedGpuImage c{CaseResult{}, &in, makeShadingParams(caseLighting(fabric, lightDirection(light, in.camera))), {}};
   c.result.name = name;
   c.result.group = "shading";
   c.result.path = tessellation ? "tessellation" : "compute";
@@ -156,28 +184,86 @@ ShadedGpuImage startCase(ValidationContext& ctx, const std::string& fabric, bool
   return c;
 }
 
-CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
-  ShadedGpuImage start = startCase(ctx, fabric, tessellation, name);
+// The ground truth of one (fabric, light), shared by both GPU paths: at the
+// rasteriser's own multisample positions (the same samples decide coverage on
+// both sides; the GPU shades once per pixel per fiber where the truth shades
+// each sample), and with 16 stratified samples for coverage.
+// Coverage does not depend on the light or the fabric: one 16-sample trace
+// serves every case.
+struct DirectTruth {
+  TraceResult truth;
+  const TraceResult* truth16 = nullptr;  // the run's one coverage trace (cached)
+};
+
+const DirectTruth& directTruth(ValidationContext& ctx, const GroundTruthInputs& in, const ShadingParams& s,
+                               const std::string& key) {
+  return ctx.cached(CacheKey<DirectTruth>{"shading/direct-truth/" + key}, [&] {
+    DirectTruth t;
+    const std::vector<glm::vec3> table = bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable;
+    TraceOptions samples;
+    samples.samplePositions = ctx.gpu<FiberRenderer>().samplePositions();
+    samples.samplesPerPixel = static_cast<int>(samples.samplePositions.size());
+    samples.shadows = false;
+    t.truth = traceFibers(*in.scene, in.camera, s, table, samples);
+    t.truth16 = &ctx.cached(CacheKey<TraceResult>{"shading/coverage-truth"}, [&] {
+      TraceOptions coverage;
+      coverage.samplesPerPixel = 16;
+      coverage.shadows = false;
+      return traceFibers(*in.scene, in.camera, s, table, coverage);
+    });
+    return t;
+  });
+}
+
+// Every covered pixel is compared, pooled by what it shows, each pool with
+// its own tolerance on the pooled relative bias (Σ L_gpu − Σ L_truth) / Σ L_truth
+// of the channel mean: per-pixel differences of rasterisation (once-per-pixel
+// against per-sample shading, cylinder against cone, a sample in or out)
+// scatter both ways and cancel in the sum, a fault that shades a kind of fiber
+// wrong does not. Pools by the fiber type most of the pixel's truth samples
+// hit (TraceResult::fiberType): core, regular (migration), loop, hair; and
+// silhouette: covered pixels that are not interior (fiber over background or
+// over another fiber). Interior pixels alone were 97–99.9 % core, and hair
+// drawn black, explicit fibers ×1.5 or TT ×1.2 all passed.
+//
+// Tolerances, from the worst of both paths, two fabrics, three lights and the
+// three models of ctest (built-in scene, fiber.bcc, glove.bcc; measured values
+// in docs/shading.md): 2-8× that, and far below what the faults of the kinds
+// above move (hair black 0.92-0.95, explicit fibers ×1.5 0.46-0.49, TT ×1.2
+// back-lit 0.02-0.18, all pools);
+struct Pool {
+  const char* name;
+  double tolerance;
+  const char* why;
+};
+// the thin pools carry the once-per-pixel shading of a fiber 1-3 px wide,
+// which does not cancel where only a rim is lit (grazing light: loops of the
+// glove 0.069 over 962 px).
+constexpr Pool kPools[] = {
+    {"core", 0.03, "core tubes: wide, mostly interior; measured ≤ 0.004"},
+    {"regular", 0.06, "regular fibers, 2-4 px wide, many edge pixels; measured ≤ 0.024"},
+    {"loop", 0.15, "loop fibers, thin and few (1-3k px); measured ≤ 0.069 (grazing light)"},
+    {"hair", 0.06, "hair fibers, 1-3 px wide, nearly all edge pixels; measured ≤ 0.021"},
+    {"silhouette", 0.03, "every non-interior covered pixel; measured ≤ 0.0071"},
+};
+// A pool of fewer pixels says nothing: its bias is reported as informational.
+constexpr size_t kMinPoolPixels = 40;
+
+double meanRgb(const float* px) { return (double(px[0]) + double(px[1]) + double(px[2])) / 3.0; }
+
+CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, const std::string& light, bool tessellation,
+                     const std::string& name) {
+  ShadedGpuImage start = startCase(ctx, fabric, light, tessellation, name);
   CaseResult& r = start.result;
   const GroundTruthInputs& in = *start.inputs;
   const ShadingParams& s = start.shading;
   const ImageRgbaF& gpu = start.image;
 
   const auto t1 = Clock::now();
-  const std::vector<glm::vec3> table = bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable;
-  // The ground truth at the rasteriser's own multisample positions: the same
-  // samples decide coverage on both sides, and the GPU shades once per pixel
-  // per fiber where the truth shades each sample.
-  TraceOptions samples;
-  samples.samplePositions = ctx.gpu<FiberRenderer>().samplePositions();
-  samples.samplesPerPixel = static_cast<int>(samples.samplePositions.size());
-  samples.shadows = false;
-  const TraceResult truth = traceFibers(*in.scene, in.camera, s, table, samples);
-  TraceOptions coverage;
-  coverage.samplesPerPixel = 16;
-  coverage.shadows = false;
-  const TraceResult truth16 = traceFibers(*in.scene, in.camera, s, table, coverage);
-  r.cpuMilliseconds = msSince(t1);
+  const DirectTruth& dt = directTruth(ctx, in, s, fabric + "/" + light);
+  const TraceResult& truth = dt.truth;
+  const TraceResult& truth16 = *dt.truth16;
+  r.cpuMilliseconds = msSince(t1);  // the first case of a (fabric, light) pays for the shared truth
 
   r.metrics.push_back(nonFiniteMetric("gpu", nonFinite(gpu), "shaded GPU pixel values"));
   r.metrics.push_back(nonFiniteMetric("cpu", truth.stats.nonFinite + truth16.stats.nonFinite + nonFinite(truth.image),
@@ -219,20 +305,63 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, bool tes
   if (interior < 500)
     r.metrics.push_back(Metric{"interior.too_few", double(interior), 0.0, "pixels",
                                "fewer than 500 interior pixels: the comparison would see nothing"});
+
+  // Pools over every covered pixel (either side).
+  struct Sum {
+    double gpu = 0.0, truth = 0.0;
+    size_t pixels = 0;
+  } sums[5];
+  size_t covered = 0;
+  for (size_t i = 0; i < gpu.pixelCount(); ++i) {
+    if (!(gpu.pixels[i * 4 + 3] > 0.0f) && !(truth.image.pixels[i * 4 + 3] > 0.0f)) continue;
+    ++covered;
+    const double g = meanRgb(gpu.pixels.data() + i * 4), t = meanRgb(truth.image.pixels.data() + i * 4);
+    const uint8_t type = truth.fiberType[i];
+    for (int p = 0; p < 5; ++p) {
+      const bool inPool = p == 4 ? !mask[i] : type == p;
+      if (!inPool) continue;
+      sums[p].gpu += g, sums[p].truth += t, ++sums[p].pixels;
+    }
+  }
+  std::string pools;
+  for (int p = 0; p < 5; ++p) {
+    const Pool& pool = kPools[p];
+    const double bias = sums[p].truth > 0.0 ? (sums[p].gpu - sums[p].truth) / sums[p].truth
+                                            : (sums[p].gpu > 0.0 ? 1.0 : 0.0);
+    const bool judged = sums[p].pixels >= kMinPoolPixels;
+    r.metrics.push_back(Metric{fmt::format("{}.rel_bias", pool.name), std::abs(bias), judged ? pool.tolerance : 0.0,
+                               "relative",
+                               judged ? fmt::format("|Σ L_gpu − Σ L_truth| / Σ L_truth over the {} pool ({} px): {}",
+                                                    pool.name, sums[p].pixels, pool.why)
+                                      : fmt::format("informational: only {} {} pixels (< {})", sums[p].pixels,
+                                                    pool.name, kMinPoolPixels),
+                               judged});
+    r.metrics.push_back(Metric{fmt::format("{}.pixels", pool.name), double(sums[p].pixels), 0.0, "pixels",
+                               "informational: pixels in the pool", false});
+    pools += fmt::format(", {} {} px {:+.4f}", pool.name, sums[p].pixels, bias);
+  }
+  // Every image of these cases holds core, regular fibers and edges: a pool
+  // that is empty there means the pooling is broken, not that all is well.
+  for (int p : {0, 1, 4})
+    if (sums[p].pixels < kMinPoolPixels)
+      r.metrics.push_back(Metric{fmt::format("{}.too_few", kPools[p].name), double(sums[p].pixels), 0.0, "pixels",
+                                 "a pool every close-up holds is (nearly) empty"});
   if (ctx.options().images) {
     r.images.push_back(ctx.saveImage(toRgba(gpu), name + "-gpu"));
     r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
     r.images.push_back(ctx.saveImage(flipImage(flip), name + "-flip"));
     r.imageCaptions = {"GPU " + r.path, "Embree ground truth", "LDR-FLIP (interior)"};
   }
-  r.details = fmt::format("fabric {}, camera {}x{} close-up, {} interior pixels; ground truth {} rays", fabric, kWidth,
-                          kHeight, interior, truth.stats.rays() + truth16.stats.rays());
+  r.details = fmt::format("fabric {}, {} light, camera {}x{} close-up, {} interior of {} covered pixels{}; ground "
+                          "truth {} rays",
+                          fabric, light, kWidth, kHeight, interior, covered, pools,
+                          truth.stats.rays() + truth16.stats.rays());
   r.finish();
   return std::move(r);
 }
 
 CaseResult runFull(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
-  ShadedGpuImage start = startCase(ctx, fabric, tessellation, name);
+  ShadedGpuImage start = startCase(ctx, fabric, "front", tessellation, name);
   CaseResult& r = start.result;
   const GroundTruthInputs& in = *start.inputs;
   const ShadingParams& s = start.shading;
@@ -264,21 +393,85 @@ CaseResult runFull(ValidationContext& ctx, const std::string& fabric, bool tesse
   return std::move(r);
 }
 
+// The real-time image against the all-fiber reference (every fiber of the
+// preset explicit, no core, no LoD; direct light and the ambient table, no
+// shadows, as the GPU): what the core approximation and LoD cost, which the
+// direct cases cannot see because their truth draws the GPU's own fibers.
+// Informational: it measures the model (000 Fig. 9-10), not a bug; the
+// later fidelity work (core texture, self-shadows) is to bring it down.
+CaseResult runAllFibers(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
+  ShadedGpuImage start = startCase(ctx, fabric, "front", tessellation, name);
+  CaseResult& r = start.result;
+  const GroundTruthInputs& in = *start.inputs;
+  const ShadingParams& s = start.shading;
+  const ImageRgbaF& gpu = start.image;
+  const auto t1 = Clock::now();
+  const FiberTraceScene& scene = allFiberScene(ctx, in);
+  const TraceResult& truth = ctx.cached(CacheKey<TraceResult>{"shading/all-fiber-truth/" + fabric}, [&] {
+    TraceOptions o;
+    o.samplePositions = ctx.gpu<FiberRenderer>().samplePositions();
+    o.samplesPerPixel = static_cast<int>(o.samplePositions.size());
+    o.shadows = false;
+    return traceFibers(scene, in.camera, s, bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable, o);
+  });
+  const size_t segments = scene.segmentCount();
+  r.cpuMilliseconds = msSince(t1);
+  r.metrics.push_back(nonFiniteMetric("gpu", nonFinite(gpu), "shaded GPU pixel values"));
+  r.metrics.push_back(nonFiniteMetric("cpu", truth.stats.nonFinite + nonFinite(truth.image), "ground-truth samples"));
+  ImageRgbaF gpuLdr = gpu, truthLdr = truth.image;
+  for (ImageRgbaF* img : {&gpuLdr, &truthLdr})
+    for (size_t i = 0; i < img->pixels.size(); ++i)
+      if (i % 4 != 3) img->pixels[i] = tonemapAces(img->pixels[i]);
+  const FlipResult flipL = flipLdr(truthLdr, gpuLdr);
+  const FlipResult flipH = flipHdr(truth.image, gpu);
+  r.metrics.push_back(Metric{"flip.ldr.mean", double(flipL.pooled.mean), 0.0, "FLIP",
+                             "informational: LDR-FLIP of the real-time image against the all-fiber reference, "
+                             "whole frame",
+                             false});
+  r.metrics.push_back(Metric{"flip.hdr.mean", double(flipH.pooled.mean), 0.0, "FLIP",
+                             "informational: HDR-FLIP against the all-fiber reference, whole frame", false});
+  if (ctx.options().images) {
+    r.images.push_back(ctx.saveImage(toRgba(gpu), name + "-gpu"));
+    r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
+    r.images.push_back(ctx.saveImage(flipImage(flipL), name + "-flip"));
+    r.imageCaptions = {"GPU " + r.path, "all-fiber reference (direct, no shadows)", "LDR-FLIP"};
+  }
+  r.details = fmt::format("fabric {}, all {} fibers per ply explicit, no core, no LoD: {} curve segments", fabric,
+                          ctx.allFiberSetup(shadingPreset(ctx)).params.fiberCount, segments);
+  r.finish();
+  return std::move(r);
+}
+
 // One straight fiber along x, 40 px wide, seen from the side: at sample
 // pixels across it, the GPU's radiance against eq. 6–7 written out in
 // validation/bcsdf_oracle.cpp, which includes nothing from common/ — the
 // check a formula wrong in common/fiber_shading.h on both sides cannot pass
 // (the ground-truth comparison above shares that header). The tube's normal
 // at each pixel comes from intersecting the pixel's eye ray with the
-// cylinder here. Measured 2.3e-5 (cotton) and 1.3e-5 (fleece) relative: the
-// float evaluation of the same functions and the ambient table's linear
-// interpolation over 64 texels against the exact integral. Tolerance 2e-4,
-// 9× that. Dropping eq. 8's cos θ_i on both sides (fault shading-cos-dropped)
-// reads 2.1e-3 with cotton, whose light is mostly the diffuse term, and
-// 2.1e-2 with fleece; the ground-truth cases pass it.
+// cylinder here. Measured 2.0e-5 (cotton) and 1.1e-5 (fleece) relative, the
+// thin fiber alike: the float evaluation of the same functions and the
+// ambient table's linear interpolation over 64 texels against the exact
+// integral. Tolerance 2e-4, 10× that. Dropping eq. 8's cos θ_i on both sides
+// (fault shading-cos-dropped) reads 1.8e-3 (thin 1.9e-3) with cotton, whose
+// light is mostly the diffuse term, and 1.9e-2 with fleece; the ground-truth
+// cases pass it.
 constexpr double kClosedFormTolerance = 2e-4;
 
-CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool tessellation, const std::string& name) {
+// The thin variant: one regular (migration) fiber on the axis, 8 px wide, no
+// core (its radius 0 draws nothing): the explicit fibers' own code path in
+// the fragment stage, which the wide core does not take. The GPU shades each
+// pixel once at its centre's hit, so fully covered pixels are the closed form
+// at the pixel centre's ray: rows −2..2 around the axis (|dy| + ½ < 4 px).
+// The hair variant: the same thin fiber made a hair in every cell (hair
+// probability 1) with root and free end on the axis (r0 = re = 0, no angular
+// extent), so the hair is the straight tube again but drawn with the hair
+// type: the fragment stage's hair path. Lines across a cell boundary are a
+// hair's free end and are not drawn; the columns are picked where the CPU
+// reference's fibers (traced here, TraceResult::fiberType) show a fully
+// covered hair on the pixel and its neighbours.
+CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, const std::string& shape,
+                         bool tessellation, const std::string& name) {
+  const bool thin = shape != "core", hair = shape == "hair";
   CaseResult r;
   r.name = name;
   r.group = "shading";
@@ -295,21 +488,35 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
   cam.eye = {0.0f, 0.0f, 2.0f};
   cam.zNear = 0.1f;
   cam.zFar = 10.0f;
-  const double radius = 20.0 / (cam.pixelsPerUnitAtDepth1() / 2.0);  // 20 px at depth 2
-  // Only the core fiber, on the axis (as strip-width, closeup_cases.cpp).
+  const double radiusPx = thin ? 4.0 : 20.0;
+  const double radius = radiusPx / (cam.pixelsPerUnitAtDepth1() / 2.0);  // at depth 2
   YarnParams p{};
   p.plyCount = 1;
   p.fiberCount = 1;
   p.maxSubdivisions = 4;
   p.ellipseN = p.ellipseB = 1.0f;
-  p.fiberRadius = 0.001f;
   p.plyTurnsPerLength = p.fiberTurnsPerLength = 1.0f;
   p.plyTwistSign = p.fiberTwistSign = 1.0f;
   p.migrationS = 1.0f;
   p.rhoMin = p.rhoMax = 1.0f;
-  p.coreRadius = static_cast<float>(radius);
-  p.boundRadius = p.coreRadius;
-  const std::vector<FiberCoord> table(1, FiberCoord{0.5f, 0.0f});
+  if (thin) {
+    // One regular fiber at ply radius 0 (on the axis for any twist), no core.
+    p.regularFibers = 1;
+    p.fiberRadius = static_cast<float>(radius);
+    p.coreRadius = 0.0f;
+    p.boundRadius = p.fiberRadius;
+    if (hair) {
+      p.hairProbability = 1.0f;
+      p.flyawayCells = 1;
+      p.hairZeMu = 1.0f;  // the hair spans 95 % of its cell (the rest rejoins; also on the axis)
+    }
+  } else {
+    // Only the core fiber, on the axis (as strip-width, closeup_cases.cpp).
+    p.fiberRadius = 0.001f;
+    p.coreRadius = static_cast<float>(radius);
+    p.boundRadius = p.coreRadius;
+  }
+  const std::vector<FiberCoord> table(1, FiberCoord{thin ? 0.0f : 0.5f, 0.0f});
 
   const Lighting lighting = caseLighting(fabric);
   const ShadingParams s = makeShadingParams(lighting);
@@ -342,9 +549,32 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
   double worst = 0.0;
   uint64_t bad = 0, measured = 0;
   std::string worstAt;
-  // Three columns, and rows from the axis to 3/4 of the radius on both sides.
-  for (int x : {100, 160, 220})
-    for (int dy : {-15, -10, -5, 0, 5, 10, 15}) {
+  // Three columns, and rows from the axis to 3/4 of the radius on both sides
+  // (thin: every fully covered row).
+  const std::vector<int> rows = thin ? std::vector<int>{-2, -1, 0, 1, 2} : std::vector<int>{-15, -10, -5, 0, 5, 10, 15};
+  const uint64_t expectedPixels = 3 * rows.size();
+  std::vector<int> columns{100, 160, 220};
+  if (hair) {
+    const FiberInput input{&buffers, &table, p, makeViewParams(cam, 1.0f, false, true)};
+    const FiberTraceScene scene(generateFibersCpu(input, computeKnotFramesCpu(buffers)), p);
+    TraceOptions o;
+    o.samplesPerPixel = 16;
+    o.shadows = false;
+    const TraceResult types = traceFibers(scene, cam, s, std::vector<glm::vec3>(FT_AMBIENT_TABLE_SIZE), o);
+    auto hairColumn = [&](int x) {
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -3; dy <= 3; ++dy) {
+          const size_t i = size_t(cam.height / 2 + dy) * cam.width + size_t(x + dx);
+          if (types.fiberType[i] != FT_FIBER_HAIR || types.image.pixels[i * 4 + 3] < 1.0f) return false;
+        }
+      return true;
+    };
+    for (int& x : columns)
+      while (x < cam.width - 2 && !hairColumn(x)) ++x;
+  }
+  for (int x : columns)
+    for (int dy : rows) {
+      if (x >= cam.width - 2) continue;  // no hair column found: counted as missing
       const int y = cam.height / 2 + dy;
       const glm::dvec2 ndc(2.0 * (x + 0.5) / cam.width - 1.0, 1.0 - 2.0 * (y + 0.5) / cam.height);
       const glm::dvec4 nh = toWorld * glm::dvec4(ndc, -1.0, 1.0), fh = toWorld * glm::dvec4(ndc, 1.0, 1.0);
@@ -374,11 +604,13 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
   r.metrics.push_back(nonFiniteMetric("cpu", 0, "closed-form radiances"));
   r.metrics.push_back(Metric{"radiance.max_rel", worst, kClosedFormTolerance, "relative",
                              "GPU against eq. 6-7 written out without common/ (shading_cases.cpp)"});
-  r.metrics.push_back(Metric{"pixels.measured", double(measured), 21.0, "pixels",
-                             "at least 21 of the 21 sample pixels fully covered", false});
-  if (measured < 21)
-    r.metrics.push_back(Metric{"pixels.missing", double(21 - measured), 0.0, "pixels",
-                               "sample pixels inside the 40-px fiber that the GPU did not cover"});
+  r.metrics.push_back(Metric{"pixels.measured", double(measured), double(expectedPixels), "pixels",
+                             fmt::format("informational: {} sample pixels, all fully covered", expectedPixels),
+                             false});
+  if (measured < expectedPixels)
+    r.metrics.push_back(Metric{"pixels.missing", double(expectedPixels - measured), 0.0, "pixels",
+                               fmt::format("sample pixels inside the {:g}-px fiber that the GPU did not cover",
+                                           2 * radiusPx)});
   r.details = worstAt;
   if (ctx.options().images) r.images.push_back(ctx.saveImage(toRgba(img), name));
   if (ctx.options().images) r.imageCaptions = {"GPU " + r.path};
@@ -391,14 +623,24 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, bool
 void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
   for (const char* fabric : kFabrics)
     for (bool tess : {false, true}) {
-      const std::string name = fmt::format("shading/closed-form/{}/{}", fabric, tess ? "tessellation" : "compute");
-      out.push_back({name, [=](ValidationContext& c) { return runClosedForm(c, fabric, tess, name); }});
+      for (const char* shape : {"core", "thin", "hair"}) {
+        const std::string core = shape == std::string("core") ? "" : std::string("/") + shape;
+        const std::string name = fmt::format("shading/closed-form/{}{}/{}", fabric, core,
+                                             tess ? "tessellation" : "compute");
+        out.push_back({name, [=](ValidationContext& c) { return runClosedForm(c, fabric, shape, tess, name); }});
+      }
     }
   for (const char* fabric : kFabrics)
-    for (bool tess : {false, true}) {
-      const std::string name = fmt::format("shading/direct/{}/{}", fabric, tess ? "tessellation" : "compute");
-      out.push_back({name, [=](ValidationContext& c) { return runDirect(c, fabric, tess, name); }});
-    }
+    for (const char* light : kLights)
+      for (bool tess : {false, true}) {
+        const std::string name =
+            fmt::format("shading/direct/{}/{}/{}", fabric, light, tess ? "tessellation" : "compute");
+        out.push_back({name, [=](ValidationContext& c) { return runDirect(c, fabric, light, tess, name); }});
+      }
+  for (bool tess : {false, true}) {
+    const std::string name = fmt::format("shading/all-fibers/{}/{}", kFullFabric, tess ? "tessellation" : "compute");
+    out.push_back({name, [=](ValidationContext& c) { return runAllFibers(c, kFullFabric, tess, name); }});
+  }
   for (bool tess : {false, true}) {
     const std::string name = fmt::format("shading/full/{}/{}", kFullFabric, tess ? "tessellation" : "compute");
     out.push_back({name, [=](ValidationContext& c) { return runFull(c, kFullFabric, tess, name); }});

@@ -201,6 +201,12 @@ void main() {
   gl_SampleMask[0] = mask;
   if (shaded != 0u) {
     color = vec4(shadeFiber(h), 1.0);
+#ifdef FT_FAULT_SHADE_HAIR_BLACK
+    if (stripType == FT_FIBER_HAIR) color.rgb = vec3(0.0);  // hair fibers drawn black
+#endif
+#ifdef FT_FAULT_SHADE_NONCORE_BRIGHT
+    if (stripType != FT_FIBER_CORE) color.rgb *= 1.5;  // every explicit fiber 1.5x too bright
+#endif
   } else {
     float ct = dot(h.tangent, normalize(lightDir));
     float diffuse = sqrt(max(1.0 - ct * ct, 0.0));
