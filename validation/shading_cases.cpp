@@ -442,6 +442,83 @@ CaseResult runAllFibers(ValidationContext& ctx, const std::string& fabric, bool 
   return std::move(r);
 }
 
+// The fidelity table (issue 14 item 7; 000 Fig. 9-10 judge the model the
+// same way): the real-time frame with each approximation of 000 §4 on or off
+// against the all-fiber reference with shadow rays (every fiber explicit,
+// no core, no LoD, light occluded by the fibers themselves), under a light
+// from the camera's side and from behind. Informational: the figures say
+// what an approximation buys, not whether code is right (the suites of each
+// algorithm do that).
+struct Approximation {
+  const char* name;
+  AppearanceOptions options;
+};
+std::vector<Approximation> fidelityRows() {
+  AppearanceOptions selfShadow = AppearanceOptions::none();
+  selfShadow.selfShadow = true;
+  return {{"none", AppearanceOptions::none()}, {"self-shadow", selfShadow}};
+}
+
+CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const std::string& light,
+                       const Approximation& row, const std::string& name) {
+  CaseResult r;
+  r.name = name;
+  r.group = "shading";
+  r.path = "compute";
+  GroundTruthInputs& in = groundTruthInputs(ctx);
+  const ShadingParams s = makeShadingParams(caseLighting(fabric, lightDirection(light, in.camera)));
+  const YarnPreset& preset = shadingPreset(ctx);
+  const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
+    return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
+  });
+  const auto t0 = Clock::now();
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
+  gpu.setModel(ctx.buffers(), in.setup->table);
+  gpu.setParams(in.setup->params, in.view);
+  gpu.setSegmentList({});
+  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, &fitted.fit.preset, row.options}));
+  const ImageRgbaF img = renderer.render(gpu, FiberPath::Compute, kWidth, kHeight);
+  r.gpuMilliseconds = msSince(t0);
+  const auto t1 = Clock::now();
+  const FiberTraceScene& scene = allFiberScene(ctx, in);
+  const TraceResult& truth =
+      ctx.cached(CacheKey<TraceResult>{"shading/all-fiber-shadowed/" + fabric + "/" + light}, [&] {
+        TraceOptions o;
+        o.samplePositions = renderer.samplePositions();
+        o.samplesPerPixel = static_cast<int>(o.samplePositions.size());
+        o.shadows = true;
+        return traceFibers(scene, in.camera, s,
+                           bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable, o);
+      });
+  r.cpuMilliseconds = msSince(t1);
+  r.metrics.push_back(nonFiniteMetric("gpu", nonFinite(img), "shaded GPU pixel values"));
+  r.metrics.push_back(nonFiniteMetric("cpu", truth.stats.nonFinite + nonFinite(truth.image), "ground-truth samples"));
+  ImageRgbaF gpuLdr = img, truthLdr = truth.image;
+  for (ImageRgbaF* im : {&gpuLdr, &truthLdr})
+    for (size_t i = 0; i < im->pixels.size(); ++i)
+      if (i % 4 != 3) im->pixels[i] = tonemapAces(im->pixels[i]);
+  const FlipResult flipL = flipLdr(truthLdr, gpuLdr);
+  const FlipResult flipH = flipHdr(truth.image, img);
+  r.metrics.push_back(Metric{"flip.ldr.mean", double(flipL.pooled.mean), 0.0, "FLIP",
+                             "informational: LDR-FLIP against the shadowed all-fiber reference, whole frame", false});
+  r.metrics.push_back(Metric{"flip.hdr.mean", double(flipH.pooled.mean), 0.0, "FLIP",
+                             "informational: HDR-FLIP against the shadowed all-fiber reference, whole frame", false});
+  r.metrics.push_back(Metric{"rmse", compareImages(truth.image, img).rmse, 0.0, "radiance",
+                             "informational: RMSE of linear radiance against the shadowed all-fiber reference", false});
+  if (ctx.options().images) {
+    r.images.push_back(ctx.saveImage(toRgba(img), name + "-gpu"));
+    r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
+    r.images.push_back(ctx.saveImage(flipImage(flipL), name + "-flip"));
+    r.imageCaptions = {std::string("GPU, approximations: ") + row.name, "all-fiber reference with shadow rays",
+                       "LDR-FLIP"};
+  }
+  r.details = fmt::format("fabric {}, light {}, approximations {}; reference: {} curve segments", fabric, light,
+                          row.name, scene.segmentCount());
+  r.finish();
+  return r;
+}
+
 // One straight fiber along x, 40 px wide, seen from the side: at sample
 // pixels across it, the GPU's radiance against eq. 6–7 written out in
 // validation/bcsdf_oracle.cpp, which includes nothing from common/ — the
@@ -641,6 +718,11 @@ void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
     const std::string name = fmt::format("shading/all-fibers/{}/{}", kFullFabric, tess ? "tessellation" : "compute");
     out.push_back({name, [=](ValidationContext& c) { return runAllFibers(c, kFullFabric, tess, name); }});
   }
+  for (const char* light : {"front", "back"})
+    for (const Approximation& row : fidelityRows()) {
+      const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
+      out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
+    }
   for (bool tess : {false, true}) {
     const std::string name = fmt::format("shading/full/{}/{}", kFullFabric, tess ? "tessellation" : "compute");
     out.push_back({name, [=](ValidationContext& c) { return runFull(c, kFullFabric, tess, name); }});
