@@ -10,6 +10,7 @@
 #define FT_UBO_DISPATCH 2
 #define FT_UBO_KNIT_PARAMS 3
 #define FT_UBO_SHADING 4
+#define FT_UBO_AMBIENT_OCCLUSION 6  // AmbientOcclusionParams (common/ambient_occlusion.h)
 
 // Shader-storage bindings (std430).
 #define FT_SSBO_CONTROL_POINTS 0
@@ -36,6 +37,12 @@
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/fiber_shading.h)
 #define FT_SSBO_BCSDF_INPUT 22     // BCSDF evaluation requests (harness)
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
+// Ambient occlusion (common/ambient_occlusion.h, gpu/ambient_occlusion_gpu.h):
+// slots 28–31 and UBO 6 are this group's.
+#define FT_SSBO_AO_POINTS 28       // vec4 requests: xy cross-section point, z ψ or θ_ply, w unused
+#define FT_SSBO_AO_OUTPUT 29       // float results (texels or one per request)
+#define FT_SSBO_AO_DENSITY 30      // float[m·m]: the density grid of the paper-faithful bake
+#define FT_SSBO_AO_TEXTURE 31      // float[n·n]: an AO texture to look up
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u
@@ -54,6 +61,7 @@
 #define FT_WG_KNIT 64
 #define FT_WG_KNIT_UPSAMPLE 64
 #define FT_WG_BCSDF 64
+#define FT_WG_AO 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

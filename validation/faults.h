@@ -5,6 +5,7 @@
 #pragma once
 #include <string_view>
 
+#include "common/ambient_occlusion.h"
 #include "common/bcsdf.h"
 #include "common/fiber_shading.h"
 #include "common/yarn_frame.h"
@@ -35,6 +36,8 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
   if (define == "FT_FAULT_BCSDF_NORM_THETA_I") ftFaultBcsdfNormThetaI = on;
   if (define == "FT_FAULT_SHADING_COS_DROPPED") ftFaultShadingCosDropped = on;
+  if (define == "FT_FAULT_AO_HALF_CIRCLE") ftFaultAoHalfCircle = on;
+  if (define == "FT_FAULT_AO_LINEAR_VISIBILITY") ftFaultAoLinearVisibility = on;
 }
 
 inline const Fault* findFault(std::string_view name) {

@@ -121,6 +121,7 @@ RunSummary runValidation(const HarnessOptions& options, std::ostream& log) {
   addKnitCases(ctx, cases);
   addBcsdfCases(ctx, cases);
   addShadingCases(ctx, cases);
+  addAmbientOcclusionCases(ctx, cases);
 
   RunSummary summary;
   const GlInfo& gl = ctx.gl();

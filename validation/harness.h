@@ -99,6 +99,7 @@ void addCloseupCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addKnitCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addBcsdfCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 void addShadingCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
+void addAmbientOcclusionCases(ValidationContext& ctx, std::vector<ValidationCase>& out);
 
 struct RunSummary {
   std::vector<CaseResult> results;
