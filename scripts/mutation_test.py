@@ -241,11 +241,16 @@ def checks_for(rel, args, copy, build):
     filt = "knit" if knit else "fiber|frames|closeup|strip-width"
     if rel.startswith("common/") and not knit and os.path.basename(rel) in ("prelude.h", "constants.h"):
         filt = "."
+    ao = "ambient_occlusion" in os.path.basename(rel)  # 000 §4.2: the ao/ cases and their unit test
+    if ao:
+        filt = "^ao/"
     harness = ["harness", [fib, "validate", "--no-images", "--filter", filt, "--report", report] + args.validate_args.split(), {}]
     if rel.startswith("gpu/shaders/"):
         harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
         return [tuple(harness)]
     out = [tuple(harness)]
+    if ao:
+        return out + [("units", [os.path.join(tests, "ambient_occlusion_test"), "--gtest_brief=1"], {})]
     units, oracles = [], []
     if fiber_file or filt == ".":
         units += ["fiber_math_test", "fiber_reference_test"]
@@ -280,7 +285,7 @@ def run(cmd, timeout, env=None, cwd=None, log=None):
 
 
 TARGETS = ["fibertwin", "fiber_math_test", "fiber_reference_test", "knit_solver_test", "oracle_fiber_test",
-           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test"]
+           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "ambient_occlusion_test"]
 # Input-parsing sources have unit tests of their own.
 SCENE_UNITS = {"scene/bcc_reader.cpp": "bcc_reader_test", "scene/yarn_preset.cpp": "yarn_preset_test"}
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/ambient_occlusion.h"
 #include "common/constants.h"
 #include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
@@ -58,6 +59,11 @@ namespace {
 #define FT_SHADING_PARAMS_MEMBERS(X) \
   X(fabric.colorR) X(fabric.colorTT) X(fabric.lobes) X(lightDirection) X(lightIrradiance) X(ambient) X(diffuse) \
   X(simple) X(flags) X(background)
+#define FT_AO_PARAMS_MEMBERS(X) \
+  X(density.plyCount) X(density.fiberCount) X(density.plyRadius) X(density.ellipseN) X(density.ellipseB) \
+  X(density.epsilon) X(density.beta) X(density.rMax) X(density.normalization) X(density.plyTwistSign) \
+  X(density.supportRadius) X(density.pad0) X(cubic) X(resolution) X(directions) X(directionMode) X(seed) \
+  X(halfWidth) X(kappa) X(densityResolution) X(marchStep)
 // clang-format on
 
 struct Member {
@@ -109,6 +115,7 @@ std::vector<StructCase> structCases() {
       FT_STORAGE_CASE(KnitStitchGpu, FT_KNIT_STITCH_GPU_MEMBERS, FT_SSBO_KNIT_STITCHES),
       FT_STORAGE_CASE(KnitEnergyGpu, FT_KNIT_ENERGY_GPU_MEMBERS, FT_SSBO_KNIT_ENERGY),
       FT_UNIFORM_CASE(ShadingParams, FT_SHADING_PARAMS_MEMBERS, "ShadingBlock", "shading", FT_UBO_SHADING),
+      FT_UNIFORM_CASE(AmbientOcclusionParams, FT_AO_PARAMS_MEMBERS, "AoBlock", "ao", FT_UBO_AMBIENT_OCCLUSION),
   };
 }
 

@@ -10,6 +10,7 @@
 #include "common/yarn_buffers.h"
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
+#include "common/ambient_occlusion.h"
 
 layout(local_size_x = 1) in;
 
@@ -35,6 +36,8 @@ layout(std430, binding = FT_SSBO_KNIT_ENERGY) buffer KnitEnergyGpuBuf { KnitEner
 layout(std430, binding = FT_SSBO_KNIT_POINTS) buffer KnitParamsCopyBuf { KnitSolveParams knitCopy; };
 layout(std140, binding = FT_UBO_SHADING) uniform ShadingBlock { ShadingParams shading; };
 layout(std430, binding = FT_SSBO_AMBIENT_TABLE) buffer ShadingCopyBuf { ShadingParams shadingCopy; };
+layout(std140, binding = FT_UBO_AMBIENT_OCCLUSION) uniform AoBlock { AmbientOcclusionParams ao; };
+layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionParams aoCopy; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -56,4 +59,5 @@ void main() {
   knitEnergies.data[1] = knitEnergies.data[0];
   knitCopy = knit;
   shadingCopy = shading;
+  aoCopy = ao;
 }
