@@ -38,6 +38,7 @@ void BM_AoFitCpu(benchmark::State& state, const ft::AmbientOcclusionParams* p) {
   ft::AoCubicFit fit;
   for (auto _ : state) benchmark::DoNotOptimize(fit = ft::fitAoCubic(std::span<const float>(bake.ao), int(p->resolution)));
   state.counters["rms_residual"] = fit.rmsResidual;
+  for (int c = 0; c < 4; ++c) state.counters["a" + std::to_string(c)] = fit.coefficients[c];
 }
 
 void BM_AoBakeGpu(benchmark::State& state, const ft::AmbientOcclusionParams* p, bool marched) {

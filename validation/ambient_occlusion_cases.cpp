@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -192,7 +193,8 @@ CaseResult runMarchedCase(ValidationContext& ctx, const YarnPreset& preset, cons
   const AoBakeCpu conv = ambientOcclusionAtCpu(convergedAoParams(p, kConvergedDirections), points);
   r.cpuMilliseconds = msSince(t0);
   const double bound = marchingBound(p);
-  double vsTwin = 0.0, twinSigmas = 0.0, marchedExcess = 0.0, meanAbs = 0.0;
+  double vsTwin = 0.0, twinSigmas = 0.0, meanAbs = 0.0;
+  double marchedExcess = -std::numeric_limits<double>::infinity();  // negative: inside 4σ alone
   size_t at = 0;
   for (size_t k = 0; k < marched.size(); ++k) {
     const double e = std::abs(double(marched[k]) - twin.ao[k]);
@@ -456,7 +458,7 @@ CaseResult runLookupCase(ValidationContext& ctx, const YarnPreset& preset, const
   t0 = Clock::now();
   const std::vector<glm::vec2> got = aoGpu(ctx).evaluate(p, tex.ao, req);
   r.gpuMilliseconds = msSince(t0);
-  double excess = 0.0, texelErr = 0.0;
+  double excess = -std::numeric_limits<double>::infinity(), texelErr = 0.0;  // excess < 0: inside the bound
   for (size_t k = 0; k < req.size(); ++k) {
     // The lookup at a turned texel centre returns that texel (up to the float
     // rotation moving the point by ~1e-7 W: ≤ 1e-5 of a texel step).
