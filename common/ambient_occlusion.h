@@ -86,7 +86,7 @@ FT_FUNC float ftAoTexelCentre(float halfWidth, uint n, uint i) {
   return -halfWidth + (float(i) + 0.5f) * (2.0f * halfWidth / float(n));
 }
 
-// Angle of direction k of texel (or point) `sample`.
+// Angle of direction k of texel (or point) `sampleId`.
 FT_FUNC float ftAoDirectionAngle(AmbientOcclusionParams ao, uint sampleId, uint k) {
   float xi = 0.5f;
   if (ao.directionMode == FT_AO_DIRECTIONS_STRATIFIED) {
@@ -109,7 +109,7 @@ FT_FUNC float ftAoVisibility(float kappa, float tau) {
 }
 
 // AO at cross-section point x of the field turned by ψ (ψ = 0 for the
-// texture), with the exact line integral. `sample` keys the jitter (the texel
+// texture), with the exact line integral. `sampleId` keys the jitter (the texel
 // index j·n + i in a bake).
 FT_FUNC float ftAoExact(AmbientOcclusionParams ao, float psi, vec2 x, uint sampleId) {
   float sum = 0.0f;

@@ -39,7 +39,7 @@
 #define FT_SSBO_BCSDF_OUTPUT 23    // their results
 // Ambient occlusion (common/ambient_occlusion.h, gpu/ambient_occlusion_gpu.h):
 // slots 28–31 and UBO 6 are this group's.
-#define FT_SSBO_AO_POINTS 28       // vec4 requests: xy cross-section point, z ψ or θ_ply, w unused
+#define FT_SSBO_AO_POINTS 28       // vec4 requests: (x, y, ψ) per point; two per lookup request (gpu/ambient_occlusion_gpu.h)
 #define FT_SSBO_AO_OUTPUT 29       // float results (texels or one per request)
 #define FT_SSBO_AO_DENSITY 30      // float[m·m]: the density grid of the paper-faithful bake
 #define FT_SSBO_AO_TEXTURE 31      // float[n·n]: an AO texture to look up
