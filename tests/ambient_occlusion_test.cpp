@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/ambient_occlusion.h"
+#include "common/fiber_geometry.h"
 #include "reference/ambient_occlusion.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
@@ -185,6 +186,37 @@ TEST(AmbientOcclusion, TextureLookupTurnsByMinusThePlyAngle) {
   const vec2 dir = ftAoPlyDirection(std::cos(0.3f) * N + std::sin(0.3f) * B, N, B);
   EXPECT_NEAR(dir.x, std::cos(0.3), 1e-7);
   EXPECT_NEAR(dir.y, std::sin(0.3), 1e-7);
+}
+
+TEST(AmbientOcclusion, PlyDirectionTurnsTheDensityOntoTheGeneratedPlies) {
+  // The lookup's angle from ftPlyFrame (the fiber generator's ply frames) turns
+  // the baked field so that every ply centre of the field lands on the
+  // generator's ply centre, for both twist directions and any s.
+  for (float sign : {1.0f, -1.0f}) {
+    YarnDensityParams d = makeYarnDensity(findYarnPreset("cotton1"));
+    YarnParams p{};
+    p.plyCount = d.plyCount;
+    p.plyRadius = d.plyRadius;
+    p.plyTwistSign = sign;
+    TwistRates r{};
+    r.ply = 2.21f;
+    YarnFrame f;
+    f.center = vec3(0.0f);
+    f.T = vec3(1, 0, 0);
+    f.N = vec3(0, 0.6f, 0.8f);
+    f.B = cross(f.T, f.N);
+    for (float s : {0.0f, 0.13f, 0.71f, 3.4f}) {
+      const vec2 dir = ftAoPlyDirection(ftPlyFrame(p, r, f, s, 0u).N, f.N, f.B);
+      const float psi = std::atan2(dir.y, dir.x);
+      for (uint j = 0; j < p.plyCount; ++j) {
+        const vec3 off = ftPlyFrame(p, r, f, s, j).offset;
+        const vec2 want(dot(off, f.N), dot(off, f.B));
+        const vec2 got = d.plyRadius * ftPlyDirection(d, j, psi);
+        EXPECT_NEAR(got.x, want.x, 1e-6f) << "sign " << sign << " s " << s << " ply " << j;
+        EXPECT_NEAR(got.y, want.y, 1e-6f) << "sign " << sign << " s " << s << " ply " << j;
+      }
+    }
+  }
 }
 
 TEST(AmbientOcclusion, DefaultKappaIsTwiceTheNotesFiberRadius) {
