@@ -360,6 +360,7 @@ def main():
             rc, _ = run(cmd, args.check_timeout, env, cwd=copy, log=log)
             if rc != 0:
                 sys.exit(f"mutation_test: baseline check fails for {rel}: {' '.join(cmd)} (see log.txt)")
+    stale = False  # the build still holds the previous (restored) non-shader mutant
     for i, m in enumerate(chosen, 1):
         if args.budget and time.time() - t0 > args.budget:
             print(f"budget reached: {i - 1} of {len(chosen)} mutants run", file=sys.stderr)
@@ -376,10 +377,17 @@ def main():
             with open(path, "w", encoding="utf-8") as f:
                 f.write("\n".join(lines))
             if not m.path.startswith("gpu/shaders/"):
+                stale = True
                 rc, out = run(["cmake", "--build", "--preset", "release", "--target"] + TARGETS, args.build_timeout,
                               cwd=copy, log=log)
                 if rc != 0:
                     entry["status"] = "build-error" if rc != "timeout" else "build-timeout"
+            elif stale:
+                # Shader mutants run on the built program, whose embedded common/
+                # headers must be the unmutated ones again.
+                run(["cmake", "--build", "--preset", "release", "--target"] + TARGETS, args.build_timeout, cwd=copy,
+                    log=log)
+                stale = False
             if entry["status"] is None:
                 for kind, cmd, env in checks_for(m.path, args, copy, build):
                     rc, _ = run(cmd, args.check_timeout, env, cwd=copy, log=log)
