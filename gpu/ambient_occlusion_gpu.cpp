@@ -104,6 +104,20 @@ std::vector<float> AmbientOcclusionGpu::bakeMarched(const AmbientOcclusionParams
   return readBuffer<float>(out.id(), count);
 }
 
+std::vector<float> AmbientOcclusionGpu::marchGrid(const AmbientOcclusionParams& p, std::span<const float> grid) {
+  const Buffer u = params(p);
+  if (grid.size() != size_t(p.densityResolution) * p.densityResolution)
+    throw std::invalid_argument(fmt::format("AmbientOcclusionGpu::marchGrid: {} cells for a {}² grid", grid.size(),
+                                            p.densityResolution));
+  const size_t count = size_t(p.resolution) * p.resolution;
+  const Buffer g = Buffer::create(grid.size() * sizeof(float), grid.data());
+  const Buffer out = Buffer::create(count * sizeof(float));
+  g.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AO_DENSITY);
+  out.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AO_OUTPUT);
+  dispatch(marchProgram_.id(), count, "ambient_occlusion_march");
+  return readBuffer<float>(out.id(), count);
+}
+
 std::vector<glm::vec2> AmbientOcclusionGpu::evaluate(const AmbientOcclusionParams& p, std::span<const float> texture,
                                                      std::span<const AoEvalRequest> requests) {
   if (texture.size() != size_t(p.resolution) * p.resolution)

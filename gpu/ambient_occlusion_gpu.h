@@ -44,6 +44,9 @@ class AmbientOcclusionGpu {
   std::vector<float> densityGrid(const AmbientOcclusionParams& p);
   // The paper-faithful texture: density grid, then rays marched through it.
   std::vector<float> bakeMarched(const AmbientOcclusionParams& p);
+  // The march alone through a given m × m grid (texel j·m + i, centres as the
+  // density grid's): how the harness checks the march on a field it knows.
+  std::vector<float> marchGrid(const AmbientOcclusionParams& p, std::span<const float> grid);
   // (ftAoCubic, the texture lookup) at each request; `texture` is n × n.
   std::vector<glm::vec2> evaluate(const AmbientOcclusionParams& p, std::span<const float> texture,
                                   std::span<const AoEvalRequest> requests);

@@ -23,4 +23,12 @@ double aoCubic(const double a[4], double r);
 // R (cos(2πj/n + θ), sin(2πj/n + θ)) (000 §3.1; notes §0.1).
 void plyCentre(double radius, int j, int n, double theta, double& x, double& y);
 
+// The paper-faithful march on a field it must integrate exactly: ρ(x, y) =
+// c0 + c1 cx(x) + c2 cy(y) on the square [−W, W]², cx/cy clamping to the
+// outermost of m grid-cell centres (what bilinear interpolation of that field,
+// clamped at the edges, reproduces exactly), marched from (x, y) along φ to
+// the square's edge. τ integrated piecewise (exact: linear pieces), AO =
+// (1/N) Σ_k exp(−κ τ_k) over φ_k = 2π(k + ½)/N.
+double linearFieldAo(const double c[3], double halfWidth, int m, double kappa, int directions, double x, double y);
+
 }  // namespace ft::oracle
