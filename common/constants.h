@@ -10,6 +10,7 @@
 #define FT_UBO_DISPATCH 2
 #define FT_UBO_KNIT_PARAMS 3
 #define FT_UBO_SELF_SHADOW 5       // SelfShadowParams + YarnDensityParams (common/self_shadow.h)
+#define FT_UBO_AMBIENT_OCCLUSION 6  // AmbientOcclusionParams (common/ambient_occlusion.h)
 
 // Shader-storage bindings (std430).
 #define FT_SSBO_CONTROL_POINTS 0
@@ -41,6 +42,13 @@
 #define FT_SSBO_SELF_SHADOW_DENSITY 25   // float[N_s][N_v][N_u]: ρ at the texel centres (grid variant)
 #define FT_SSBO_SELF_SHADOW_REQUESTS 26  // lookup requests (harness)
 #define FT_SSBO_SELF_SHADOW_RESULTS 27   // their results
+
+// Ambient occlusion (common/ambient_occlusion.h, gpu/ambient_occlusion_gpu.h):
+// slots 28–31 and UBO 6 are this group's.
+#define FT_SSBO_AO_POINTS 28       // vec4 requests: (x, y, ψ) per point; two per lookup request (gpu/ambient_occlusion_gpu.h)
+#define FT_SSBO_AO_OUTPUT 29       // float results (texels or one per request)
+#define FT_SSBO_AO_DENSITY 30      // float[m·m]: the density grid of the paper-faithful bake
+#define FT_SSBO_AO_TEXTURE 31      // float[n·n]: an AO texture to look up
 
 // Core-fiber texture bake (common/core_texture.h, gpu/core_texture_gpu.h;
 // 000 §3.2): SSBO 32–35 and UBO 7 are this group's (others use 24–31, UBO 5–6).
@@ -75,6 +83,7 @@
 #define FT_WG_BCSDF 64
 #define FT_WG_SELF_SHADOW 64
 #define FT_WG_CORE_TEXTURE 64
+#define FT_WG_AO 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

@@ -10,6 +10,7 @@ packages=(
   # libraries
   libglm-dev libtbb-dev libfmt-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libgtest-dev libbenchmark-dev
+  libeigen3-dev                    # least squares of the AO cubic fit
   libembree-dev libopenexr-dev     # the ray-traced ground truth; float images
   # headless OpenGL: libepoxy, EGL (surfaceless / device), Mesa llvmpipe, OSMesa
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev

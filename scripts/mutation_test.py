@@ -252,6 +252,9 @@ def checks_for(rel, args, copy, build):
     filt = "knit" if knit else "fiber|frames|closeup|strip-width"
     if rel.startswith("common/") and not knit and os.path.basename(rel) in ("prelude.h", "constants.h"):
         filt = "."
+    ao = "ambient_occlusion" in os.path.basename(rel)  # 000 §4.2: the ao/ cases and their unit test
+    if ao:
+        filt = "^ao/"
     harness = ["harness", [fib, "validate", "--no-images", "--filter", filt, "--report", report] + args.validate_args.split(), {}]
     # The self-shadow texture (common/self_shadow.h, its bakes and shaders): its own cases and unit test.
     if "self_shadow" in os.path.basename(rel):
@@ -264,6 +267,8 @@ def checks_for(rel, args, copy, build):
         harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
         return [tuple(harness)]
     out = [tuple(harness)]
+    if ao:
+        return out + [("units", [os.path.join(tests, "ambient_occlusion_test"), "--gtest_brief=1"], {})]
     units, oracles = [], []
     if fiber_file or filt == ".":
         units += ["fiber_math_test", "fiber_reference_test"]
@@ -299,7 +304,7 @@ def run(cmd, timeout, env=None, cwd=None, log=None):
 
 TARGETS = ["fibertwin", "fiber_math_test", "fiber_reference_test", "knit_solver_test", "oracle_fiber_test",
            "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "camera_test", "self_shadow_test",
-           "core_texture_test"]
+           "core_texture_test", "ambient_occlusion_test"]
 # Input-parsing sources have unit tests of their own; so has the camera
 # (named views independent of the resolution, the explicit camera's checks).
 SCENE_UNITS = {"scene/bcc_reader.cpp": "bcc_reader_test", "scene/yarn_preset.cpp": "yarn_preset_test",
@@ -376,6 +381,7 @@ def main():
             rc, _ = run(cmd, args.check_timeout, env, cwd=copy, log=log)
             if rc != 0:
                 sys.exit(f"mutation_test: baseline check fails for {rel}: {' '.join(cmd)} (see log.txt)")
+    stale = False  # the build still holds the previous (restored) non-shader mutant
     for i, m in enumerate(chosen, 1):
         if args.budget and time.time() - t0 > args.budget:
             print(f"budget reached: {i - 1} of {len(chosen)} mutants run", file=sys.stderr)
@@ -392,10 +398,17 @@ def main():
             with open(path, "w", encoding="utf-8") as f:
                 f.write("\n".join(lines))
             if not m.path.startswith("gpu/shaders/"):
+                stale = True
                 rc, out = run(["cmake", "--build", "--preset", "release", "--target"] + TARGETS, args.build_timeout,
                               cwd=copy, log=log)
                 if rc != 0:
                     entry["status"] = "build-error" if rc != "timeout" else "build-timeout"
+            elif stale:
+                # Shader mutants run on the built program, whose embedded common/
+                # headers must be the unmutated ones again.
+                run(["cmake", "--build", "--preset", "release", "--target"] + TARGETS, args.build_timeout, cwd=copy,
+                    log=log)
+                stale = False
             if entry["status"] is None:
                 for kind, cmd, env in checks_for(m.path, args, copy, build):
                     rc, _ = run(cmd, args.check_timeout, env, cwd=copy, log=log)

@@ -144,7 +144,8 @@ TEST_P(PlantedFault, IsDetectedOnEveryPathItCanReach) {
   EXPECT_TRUE(errors.empty()) << intro << ": cases threw instead of failing a metric:\n" << errors << all;
 
   // Every GPU path the fault lives on must catch it (the fiber faults: the
-  // tessellation and compute paths; the knit faults: the knit kernel).
+  // tessellation and compute paths; the knit faults: the knit kernel; the
+  // ambient-occlusion faults: path "ao", CPU-side checks included).
   std::string failingByPath;
   for (std::string_view rest = fault.paths; !rest.empty();) {
     const size_t comma = rest.find(',');

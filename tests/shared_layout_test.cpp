@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/ambient_occlusion.h"
 #include "common/constants.h"
 #include "common/core_texture.h"
 #include "common/fiber_shading.h"
@@ -62,6 +63,11 @@ namespace {
 #define FT_CORE_TEXTURE_PARAMS_MEMBERS(X) \
   X(width) X(height) X(columns) X(coreFibers) X(segmentsPerTwist) X(uOffset) X(alpha) X(coreHalfWidth) \
   X(fiberRadius) X(twistSign) X(migrationS) X(rhoMin) X(rhoMax) X(plyScale) X(rayStart) X(pad0)
+#define FT_AO_PARAMS_MEMBERS(X) \
+  X(density.plyCount) X(density.fiberCount) X(density.plyRadius) X(density.ellipseN) X(density.ellipseB) \
+  X(density.epsilon) X(density.beta) X(density.rMax) X(density.normalization) X(density.plyTwistSign) \
+  X(density.supportRadius) X(density.pad0) X(cubic) X(resolution) X(directions) X(directionMode) X(seed) \
+  X(halfWidth) X(kappa) X(densityResolution) X(marchStep)
 // clang-format on
 
 struct Member {
@@ -115,6 +121,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(ShadingParams, FT_SHADING_PARAMS_MEMBERS, "ShadingBlock", "shading", FT_UBO_SHADING),
       FT_UNIFORM_CASE(CoreTextureParams, FT_CORE_TEXTURE_PARAMS_MEMBERS, "CoreTextureBlock", "core",
                       FT_UBO_CORE_TEXTURE),
+      FT_UNIFORM_CASE(AmbientOcclusionParams, FT_AO_PARAMS_MEMBERS, "AoBlock", "ao", FT_UBO_AMBIENT_OCCLUSION),
   };
 }
 

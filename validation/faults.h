@@ -5,6 +5,7 @@
 #pragma once
 #include <string_view>
 
+#include "common/ambient_occlusion.h"
 #include "common/bcsdf.h"
 #include "common/core_texture.h"
 #include "common/fiber_shading.h"
@@ -41,6 +42,8 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SELF_SHADOW_PSI_SIGN") ftFaultSelfShadowPsiSign = on;
   if (define == "FT_FAULT_CORE_TEXTURE_PRESET_S") ftFaultCoreTexturePresetS = on;
   if (define == "FT_FAULT_CORE_TEXTURE_TANGENT_SIGN") ftFaultCoreTextureTangentSign = on;
+  if (define == "FT_FAULT_AO_HALF_CIRCLE") ftFaultAoHalfCircle = on;
+  if (define == "FT_FAULT_AO_LINEAR_VISIBILITY") ftFaultAoLinearVisibility = on;
 }
 
 inline const Fault* findFault(std::string_view name) {

@@ -11,6 +11,7 @@
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
 #include "common/core_texture.h"
+#include "common/ambient_occlusion.h"
 
 layout(local_size_x = 1) in;
 
@@ -38,6 +39,8 @@ layout(std140, binding = FT_UBO_SHADING) uniform ShadingBlock { ShadingParams sh
 layout(std430, binding = FT_SSBO_AMBIENT_TABLE) buffer ShadingCopyBuf { ShadingParams shadingCopy; };
 layout(std140, binding = FT_UBO_CORE_TEXTURE) uniform CoreTextureBlock { CoreTextureParams core; };
 layout(std430, binding = FT_SSBO_CORE_TEX0) buffer CoreCopyBuf { CoreTextureParams coreCopy; };
+layout(std140, binding = FT_UBO_AMBIENT_OCCLUSION) uniform AoBlock { AmbientOcclusionParams ao; };
+layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionParams aoCopy; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -60,4 +63,5 @@ void main() {
   knitCopy = knit;
   shadingCopy = shading;
   coreCopy = core;
+  aoCopy = ao;
 }
