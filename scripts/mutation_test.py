@@ -10,10 +10,9 @@ and surviving mutants by file (markdown + JSON).
 
 Checks, recorded separately for every mutant so that each kind's power shows:
   harness  `fibertwin validate` on the built-in scene (fast subset: --no-images
-           --yarn cotton1, filtered to the fiber or knit cases the file feeds)
-  units    the unit tests that existed before the oracles (fiber_math_test,
-           fiber_reference_test, knit_solver_test; bcc_reader_test and
-           yarn_preset_test for their sources)
+           --yarn cotton1, filtered to the cases the file feeds: RULES)
+  units    the unit tests of the file's algorithm (RULES: fiber_math_test,
+           bcsdf_test, fiber_trace_test, flip_test, self_shadow_test, ...)
   oracle   tests/oracle_fiber_test and tests/oracle_knit_test (no code shared
            with common/)
 Shader mutants need no rebuild: FT_SHADER_DIR points fibertwin at the copy's
@@ -39,8 +38,8 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DEFAULT_FILES = ["common/*.h", "gpu/shaders/*.glsl", "reference/*.cpp", "scene/*.cpp"]
-FOLDERS = ["common", "gpu/shaders", "reference", "scene"]
+DEFAULT_FILES = ["common/*.h", "gpu/shaders/*.glsl", "reference/*.cpp", "scene/*.cpp", "image/*.cpp"]
+FOLDERS = ["common", "gpu/shaders", "reference", "scene", "image"]
 # Test-only shaders (GL smoke test, layout probe): not part of the product.
 EXCLUDE = ["gpu/shaders/smoke.comp.glsl", "gpu/shaders/layout_probe.comp.glsl"]
 
@@ -231,57 +230,50 @@ def is_knit(rel):
     return "knit" in os.path.basename(rel)
 
 
-def is_core_texture(rel):
-    return "core_texture" in os.path.basename(rel)
+# Which checks can see a mutant, by file: the first rule whose pattern matches
+# the path (relative to the repository root) gives the harness cases and the
+# unit tests (oracles included) to run. One table, so a new algorithm's files
+# are mapped by one line here.
+#   (path regex, harness filter or None, unit tests)
+RULES = [
+    (r"core_texture", "^core-texture/", ["core_texture_test"]),
+    (r"self_shadow", "^(selfshadow|appearance)/", ["self_shadow_test"]),
+    (r"ambient_occlusion", "^ao/", ["ambient_occlusion_test"]),
+    (r"yarn_density", "^(selfshadow|ao)/", ["yarn_density_test", "self_shadow_test", "ambient_occlusion_test"]),
+    # The BCSDF and its tables: its cases (oracle included), the shading cases, its unit test.
+    (r"bcsdf", "^(bcsdf|shading)/", ["bcsdf_test", "fiber_trace_test"]),
+    # The shaded frame: fragment shading, the renderer, the shading inputs, the ground truth.
+    (r"fiber_shading\.h|fiber_strip\.frag|fiber_renderer|shading_inputs|fiber_trace|lighting\.cpp|fabric\.cpp",
+     "^(shading|appearance|closeup)/|strip-width", ["fiber_trace_test", "bcsdf_test"]),
+    # Image metrics: FLIP/RMSE decide every shading case; their own tests first.
+    (r"^image/", "^shading/", ["flip_test", "image_io_test"]),
+    (r"^scene/bcc_reader", "fiber|frames|closeup|strip-width", ["bcc_reader_test", "fiber_math_test"]),
+    (r"^scene/yarn_preset", "fiber|frames|closeup|strip-width", ["yarn_preset_test", "fiber_math_test"]),
+    (r"^scene/camera", "fiber|frames|closeup|strip-width", ["camera_test"]),
+    (r"knit", "knit", ["knit_solver_test", "oracle_knit_test"]),
+    (r"^common/(prelude|constants)\.h$", ".", ["fiber_math_test", "fiber_reference_test", "oracle_fiber_test",
+                                                "knit_solver_test", "oracle_knit_test"]),
+    (r".", "fiber|frames|closeup|strip-width", ["fiber_math_test", "fiber_reference_test", "oracle_fiber_test"]),
+]
+ORACLES = {"oracle_fiber_test", "oracle_knit_test"}
 
 
 def checks_for(rel, args, copy, build):
     """(kind, command, env) of every check that can see a mutant in `rel`."""
-    fib = os.path.join(build, "validation", "fibertwin")
+    fib = os.path.join(build, "cli", "fibertwin")
     tests = os.path.join(build, "tests")
     report = os.path.join(build, "mutation-report")
-    if is_core_texture(rel):  # the core-fiber texture bake: its cases and unit tests only
-        env = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")} if rel.startswith("gpu/shaders/") else {}
-        out = [("harness", [fib, "validate", "--no-images", "--filter", "^core-texture/", "--report", report]
-                + args.validate_args.split(), env)]
-        if not rel.startswith("gpu/shaders/"):
-            out.append(("units", [os.path.join(tests, "core_texture_test"), "--gtest_brief=1"], {}))
-        return out
-    knit = is_knit(rel) or rel.startswith("knit/")
-    fiber_file = not knit
-    filt = "knit" if knit else "fiber|frames|closeup|strip-width"
-    if rel.startswith("common/") and not knit and os.path.basename(rel) in ("prelude.h", "constants.h"):
-        filt = "."
-    ao = "ambient_occlusion" in os.path.basename(rel)  # 000 §4.2: the ao/ cases and their unit test
-    if ao:
-        filt = "^ao/"
-    harness = ["harness", [fib, "validate", "--no-images", "--filter", filt, "--report", report] + args.validate_args.split(), {}]
-    # The self-shadow texture (common/self_shadow.h, its bakes and shaders): its own cases and unit test.
-    if "self_shadow" in os.path.basename(rel):
-        harness[1][4] = "^selfshadow/"
-        if rel.startswith("gpu/shaders/"):
-            harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
-            return [tuple(harness)]
-        return [tuple(harness), ("units", [os.path.join(tests, "self_shadow_test"), "--gtest_brief=1"], {})]
-    if rel.startswith("gpu/shaders/"):
-        harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
-        return [tuple(harness)]
-    out = [tuple(harness)]
-    if ao:
-        return out + [("units", [os.path.join(tests, "ambient_occlusion_test"), "--gtest_brief=1"], {})]
-    units, oracles = [], []
-    if fiber_file or filt == ".":
-        units += ["fiber_math_test", "fiber_reference_test"]
-        oracles += ["oracle_fiber_test"]
-    if knit or filt == "." or rel.startswith("reference/"):
-        units += ["knit_solver_test"]
-        oracles += ["oracle_knit_test"]
-    if rel in SCENE_UNITS:
-        units.append(SCENE_UNITS[rel])
-    for u in units:
-        out.append(("units", [os.path.join(tests, u), "--gtest_brief=1"], {}))
-    for o in oracles:
-        out.append(("oracle", [os.path.join(tests, o), "--gtest_brief=1"], {}))
+    filt, units = next((f, u) for pattern, f, u in RULES if re.search(pattern, rel))
+    shader = rel.startswith("gpu/shaders/")
+    # Shader mutants need no rebuild: FT_SHADER_DIR points the program at the copy's shaders.
+    env = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")} if shader else {}
+    out = []
+    if filt:
+        out.append(("harness", [fib, "validate", "--no-images", "--filter", filt, "--report", report]
+                    + args.validate_args.split(), env))
+    if not shader:  # only the harness runs shaders
+        for u in units:
+            out.append(("oracle" if u in ORACLES else "units", [os.path.join(tests, u), "--gtest_brief=1"], {}))
     return out
 
 
@@ -302,13 +294,7 @@ def run(cmd, timeout, env=None, cwd=None, log=None):
     return rc, out
 
 
-TARGETS = ["fibertwin", "fiber_math_test", "fiber_reference_test", "knit_solver_test", "oracle_fiber_test",
-           "oracle_knit_test", "bcc_reader_test", "yarn_preset_test", "camera_test", "self_shadow_test",
-           "core_texture_test", "ambient_occlusion_test"]
-# Input-parsing sources have unit tests of their own; so has the camera
-# (named views independent of the resolution, the explicit camera's checks).
-SCENE_UNITS = {"scene/bcc_reader.cpp": "bcc_reader_test", "scene/yarn_preset.cpp": "yarn_preset_test",
-               "scene/camera.cpp": "camera_test"}
+TARGETS = ["fibertwin"] + sorted({u for _, _, units in RULES for u in units})
 
 
 def prepare_copy(args, log):
