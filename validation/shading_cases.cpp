@@ -534,6 +534,10 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
 // cases pass it.
 constexpr double kClosedFormTolerance = 2e-4;
 
+// The cap variant: the core fiber ends at the image centre, and pixels past
+// its end see the capsule's end ball: shaded with the ball's radial normal and
+// the fiber's tangent (fiber_strip.frag.glsl castCapsule), which no other case
+// looks at (a blind spot of issue 14 item 12).
 // The thin variant: one regular (migration) fiber on the axis, 8 px wide, no
 // core (its radius 0 draws nothing): the explicit fibers' own code path in
 // the fragment stage, which the wide core does not take. The GPU shades each
@@ -548,7 +552,7 @@ constexpr double kClosedFormTolerance = 2e-4;
 // covered hair on the pixel and its neighbours.
 CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, const std::string& shape,
                          bool tessellation, const std::string& name) {
-  const bool thin = shape != "core", hair = shape == "hair";
+  const bool cap = shape == "cap", thin = shape != "core" && !cap, hair = shape == "hair";
   CaseResult r;
   r.name = name;
   r.group = "shading";
@@ -556,7 +560,8 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
   YarnModel model;
   model.name = "straight fiber";
   YarnCurve c;
-  for (int i = 0; i <= 16; ++i) c.points.push_back({-1.6f + 0.2f * i, 0.0f, 0.0f});  // beyond the image
+  // Beyond the image; the cap variant ends at the image centre, where its end ball is seen.
+  for (int i = 0; i <= (cap ? 8 : 16); ++i) c.points.push_back({-1.6f + 0.2f * i, 0.0f, 0.0f});
   model.curves.push_back(c);
   const YarnBuffers buffers = buildYarnBuffers(model);
   Camera cam;
@@ -628,9 +633,13 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
   std::string worstAt;
   // Three columns, and rows from the axis to 3/4 of the radius on both sides
   // (thin: every fully covered row).
-  const std::vector<int> rows = thin ? std::vector<int>{-2, -1, 0, 1, 2} : std::vector<int>{-15, -10, -5, 0, 5, 10, 15};
+  // Cap: columns 5.5, 9.5 and 12.5 px past the fiber's end, on its end ball
+  // (silhouette half-height ≥ 15.6 px there), rows within ±10 px.
+  const std::vector<int> rows = thin  ? std::vector<int>{-2, -1, 0, 1, 2}
+                                : cap ? std::vector<int>{-10, -5, 0, 5, 10}
+                                      : std::vector<int>{-15, -10, -5, 0, 5, 10, 15};
   const uint64_t expectedPixels = 3 * rows.size();
-  std::vector<int> columns{100, 160, 220};
+  std::vector<int> columns = cap ? std::vector<int>{165, 169, 172} : std::vector<int>{100, 160, 220};
   if (hair) {
     const FiberInput input{&buffers, &table, p, makeViewParams(cam, 1.0f, false, true)};
     const FiberTraceScene scene(generateFibersCpu(input, computeKnotFramesCpu(buffers)), p);
@@ -656,12 +665,16 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
       const glm::dvec2 ndc(2.0 * (x + 0.5) / cam.width - 1.0, 1.0 - 2.0 * (y + 0.5) / cam.height);
       const glm::dvec4 nh = toWorld * glm::dvec4(ndc, -1.0, 1.0), fh = toWorld * glm::dvec4(ndc, 1.0, 1.0);
       const glm::dvec3 o = glm::dvec3(nh) / nh.w, d = glm::normalize(glm::dvec3(fh) / fh.w - o);
-      // The cylinder y² + z² = radius² (axis x): the nearer root.
-      const double a = d.y * d.y + d.z * d.z, b = o.y * d.y + o.z * d.z, cc = o.y * o.y + o.z * o.z - radius * radius;
+      // The cylinder y² + z² = radius² (axis x), or for the cap the ball
+      // |x|² = radius² at the fiber's end (the origin): the nearer root. The
+      // ball's normal is radial from the end point; the fiber's tangent stays x.
+      const glm::dvec3 dq = cap ? d : glm::dvec3(0.0, d.y, d.z), oq = cap ? o : glm::dvec3(0.0, o.y, o.z);
+      const double a = glm::dot(dq, dq), b = glm::dot(oq, dq), cc = glm::dot(oq, oq) - radius * radius;
       const double disc = b * b - a * cc;
       if (disc <= 0.0) continue;
       const glm::dvec3 hit = o + d * ((-b - std::sqrt(disc)) / a);
-      const glm::dvec3 n = glm::normalize(glm::dvec3(0.0, hit.y, hit.z));
+      if (cap && hit.x <= 0.0) continue;  // on the tube, not the ball (not expected at these columns)
+      const glm::dvec3 n = glm::normalize(cap ? hit : glm::dvec3(0.0, hit.y, hit.z));
       const glm::dvec3 expected = oracle::fiberRadiance(f, l, glm::dvec3(1.0, 0.0, 0.0), n, -d);
       const float* px = img.at(x, y);
       if (px[3] < 1.0f) continue;  // an edge pixel (not expected this far inside)
@@ -700,7 +713,7 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
 void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
   for (const char* fabric : kFabrics)
     for (bool tess : {false, true}) {
-      for (const char* shape : {"core", "thin", "hair"}) {
+      for (const char* shape : {"core", "thin", "hair", "cap"}) {
         const std::string core = shape == std::string("core") ? "" : std::string("/") + shape;
         const std::string name = fmt::format("shading/closed-form/{}{}/{}", fabric, core,
                                              tess ? "tessellation" : "compute");

@@ -105,7 +105,11 @@ bool castCapsule(vec3 o, out FiberHit h) {
   vec3 t = mix(lineT0, lineT1, u);
   h.tangent = dot(t, t) > 0.0 ? normalize(t) : a;
   vec3 radial = part == 0 ? h.position - (lineP0 + u * axis) : h.position - (part == 1 ? lineP0 : lineP1);
+#ifdef FT_FAULT_SHADE_CAP_TUBE_NORMAL
+  radial -= dot(radial, h.tangent) * h.tangent;  // the end balls shaded as if they were tube
+#else
   if (part == 0) radial -= dot(radial, h.tangent) * h.tangent;
+#endif
   h.normal = dot(radial, radial) > 0.0 ? normalize(radial) : -d;
 #ifdef FT_FAULT_SHADE_FLAT_NORMAL
   vec3 toEye = -d - dot(-d, h.tangent) * h.tangent;
