@@ -5,16 +5,13 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "gpu/compute_dispatch.h"
 #include "gpu/gl_check.h"
 #include "gpu/shader_library.h"
 
 namespace ft {
 namespace {
 
-void setUniform(GLuint program, const char* name, uint32_t value) {
-  const GLint loc = glGetUniformLocation(program, name);
-  if (loc >= 0) glProgramUniform1ui(program, loc, value);
-}
 
 void checkParams(const AmbientOcclusionParams& p) {
   if (p.resolution < 2 || p.directions < 1 || p.densityResolution < 2 || !(p.halfWidth > 0.0f) ||
@@ -43,18 +40,7 @@ Buffer AmbientOcclusionGpu::params(const AmbientOcclusionParams& p) {
 }
 
 void AmbientOcclusionGpu::dispatch(GLuint program, size_t items, const char* what) {
-  if (items == 0) return;
-  const size_t groups = (items + FT_WG_AO - 1) / FT_WG_AO;
-  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
-  const size_t groupsY = (groups + groupsX - 1) / groupsX;
-  if (groupsY > static_cast<size_t>(maxGroupsY_))
-    throw std::runtime_error(fmt::format("{}: {} work groups exceed the GL limit", what, groups));
-  glUseProgram(program);
-  setUniform(program, "groupsX", groupsX);
-  setUniform(program, "itemCount", static_cast<uint32_t>(items));
-  glDispatchCompute(groupsX, static_cast<GLuint>(groupsY), 1);
-  glCheck(what);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  dispatchFlat(program, items, FT_WG_AO, maxGroupsY_, what);
 }
 
 std::vector<float> AmbientOcclusionGpu::bakeExact(const AmbientOcclusionParams& p) {

@@ -7,21 +7,14 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "gpu/compute_dispatch.h"
 #include "gpu/gl_check.h"
 #include "gpu/shader_library.h"
 
 namespace ft {
 namespace {
 
-void setUniform(GLuint program, const char* name, uint32_t value) {
-  const GLint loc = glGetUniformLocation(program, name);
-  if (loc >= 0) glProgramUniform1ui(program, loc, value);
-}
 
-void setUniform(GLuint program, const char* name, glm::vec2 value) {
-  const GLint loc = glGetUniformLocation(program, name);
-  if (loc >= 0) glProgramUniform2f(program, loc, value.x, value.y);
-}
 
 // The input block of both programs: the fabric, then vec4 requests.
 Buffer inputBuffer(const FabricParams& fabric, const std::vector<glm::vec4>& requests) {
@@ -41,17 +34,7 @@ BcsdfGpu::BcsdfGpu(const GlInfo& gl, const std::vector<std::string>& defines)
 }
 
 void BcsdfGpu::dispatch(GLuint program, size_t items, const char* what) {
-  if (items == 0) return;
-  const size_t groups = (items + FT_WG_BCSDF - 1) / FT_WG_BCSDF;
-  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
-  const size_t groupsY = (groups + groupsX - 1) / groupsX;
-  if (groupsY > static_cast<size_t>(maxGroupsY_))
-    throw std::runtime_error(fmt::format("{}: {} work groups exceed the GL limit", what, groups));
-  glUseProgram(program);
-  setUniform(program, "groupsX", groupsX);
-  glDispatchCompute(groupsX, static_cast<GLuint>(groupsY), 1);
-  glCheck(what);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  dispatchFlat(program, items, FT_WG_BCSDF, maxGroupsY_, what);
 }
 
 std::vector<glm::vec3> BcsdfGpu::readResults(size_t count) {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "gpu/compute_dispatch.h"
 #include "gpu/gl_check.h"
 #include "gpu/shader_library.h"
 
@@ -31,17 +32,7 @@ CoreTexture CoreTextureGpu::bake(const CoreTextureInput& input) {
   tex0.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX0);
   tex1.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX1);
 
-  const size_t groups = (texels + FT_WG_CORE_TEXTURE - 1) / FT_WG_CORE_TEXTURE;
-  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
-  const size_t groupsY = (groups + groupsX - 1) / groupsX;
-  if (groupsY > static_cast<size_t>(maxGroupsY_))
-    throw std::runtime_error(fmt::format("core_texture_bake: {} work groups exceed the GL limit", groups));
-  glUseProgram(program_.id());
-  const GLint loc = glGetUniformLocation(program_.id(), "groupsX");
-  if (loc >= 0) glProgramUniform1ui(program_.id(), loc, groupsX);
-  glDispatchCompute(groupsX, static_cast<GLuint>(groupsY), 1);
-  glCheck("core_texture_bake");
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  dispatchFlat(program_.id(), texels, FT_WG_CORE_TEXTURE, maxGroupsY_, "core_texture_bake");
 
   CoreTexture out;
   out.columns = c.columns;

@@ -6,20 +6,11 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "gpu/compute_dispatch.h"
 #include "gpu/shader_library.h"
 
 namespace ft {
 namespace {
-
-void setUint(GLuint program, const char* name, uint32_t value) {
-  const GLint loc = glGetUniformLocation(program, name);
-  if (loc >= 0) glProgramUniform1ui(program, loc, value);
-}
-
-void setVec3(GLuint program, const char* name, glm::vec3 v) {
-  const GLint loc = glGetUniformLocation(program, name);
-  if (loc >= 0) glProgramUniform3f(program, loc, v.x, v.y, v.z);
-}
 
 Buffer makeBuffer(size_t bytes, const void* data) {
   Buffer b = Buffer::createMutable(std::max<size_t>(bytes, 16));  // never empty: binding one is an error
@@ -120,7 +111,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
     shadedTarget_ = std::make_unique<MultisampleTarget>(width, height, GL_RGBA32F);
   shadedTarget_->begin(glm::vec4(glm::vec3(inputs_.params.background), 0.0f));
   bindShading();
-  setUint(prog, "shaded", 1u);
+  setUniform(prog, "shaded", 1u);
   fibers.draw(path, prog);
   shadedTarget_->finish();
 }
@@ -157,9 +148,9 @@ std::vector<glm::vec2> FiberRenderer::samplePositions() const {
 namespace {
 
 void setPreviewUniforms(GLuint prog, const RenderStyle& style) {
-  setUint(prog, "shaded", 0u);
-  setVec3(prog, "lightDir", style.lightDir);
-  setVec3(prog, "baseColor", style.baseColor);
+  setUniform(prog, "shaded", 0u);
+  setUniform(prog, "lightDir", style.lightDir);
+  setUniform(prog, "baseColor", style.baseColor);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "gpu/compute_dispatch.h"
 #include "gpu/gl_check.h"
 #include "gpu/shader_library.h"
 
@@ -19,10 +20,6 @@ struct ParamsBlock {
 };
 static_assert(sizeof(ParamsBlock) == 80, "SelfShadowBlock: std140 structs of 32 and 48 bytes");
 
-void setUniform(GLuint program, const char* name, uint32_t value) {
-  const GLint loc = glGetUniformLocation(program, name);
-  if (loc >= 0) glProgramUniform1ui(program, loc, value);
-}
 
 }  // namespace
 
@@ -49,17 +46,7 @@ void SelfShadowGpu::bindParams(const YarnDensityParams& density, const SelfShado
 }
 
 void SelfShadowGpu::dispatch(GLuint program, size_t items, const char* what) {
-  if (items == 0) return;
-  const size_t groups = (items + FT_WG_SELF_SHADOW - 1) / FT_WG_SELF_SHADOW;
-  const uint32_t groupsX = static_cast<uint32_t>(std::min<size_t>(groups, 65535));
-  const size_t groupsY = (groups + groupsX - 1) / groupsX;
-  if (groupsY > static_cast<size_t>(maxGroupsY_))
-    throw std::runtime_error(fmt::format("{}: {} work groups exceed the GL limit", what, groups));
-  glUseProgram(program);
-  setUniform(program, "groupsX", groupsX);
-  glDispatchCompute(groupsX, static_cast<GLuint>(groupsY), 1);
-  glCheck(what);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  dispatchFlat(program, items, FT_WG_SELF_SHADOW, maxGroupsY_, what);
 }
 
 std::vector<float> SelfShadowGpu::bakeExact(const YarnDensityParams& density, const SelfShadowParams& params) {
