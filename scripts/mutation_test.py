@@ -240,9 +240,9 @@ def checks_for(rel, args, copy, build):
     fib = os.path.join(build, "validation", "fibertwin")
     tests = os.path.join(build, "tests")
     report = os.path.join(build, "mutation-report")
-    if is_core_texture(rel):  # the core-fiber texture bake: its cases and unit tests only
+    if is_core_texture(rel):  # the core-fiber texture: its bake cases, the frame's eq. 3 and frame cases, unit tests
         env = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")} if rel.startswith("gpu/shaders/") else {}
-        out = [("harness", [fib, "validate", "--no-images", "--filter", "^core-texture/", "--report", report]
+        out = [("harness", [fib, "validate", "--no-images", "--filter", "^(appearance/)?core-texture/", "--report", report]
                 + args.validate_args.split(), env)]
         if not rel.startswith("gpu/shaders/"):
             out.append(("units", [os.path.join(tests, "core_texture_test"), "--gtest_brief=1"], {}))
