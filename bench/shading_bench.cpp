@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     setup.gpu = std::make_unique<ft::FiberGpu>(gi);
     setup.gpu->setModel(setup.buffers, setup.fibers.table);
     setup.renderer = std::make_unique<ft::FiberRenderer>(gi);
-    setup.renderer->setShading(ft::ShadingBakeGpu(gi).bake({shading, &setup.fibers.fit.preset, appearance}));
+    setup.renderer->setShading(ft::ShadingBakeGpu(gi).bake({shading, &setup.fibers.fit.preset, appearance, &setup.fibers.params, &setup.fibers.table}));
     setup.timer = std::make_unique<ft::GpuTimer>(gi);
 
     benchmark::AddCustomContext("gl_renderer", gi.renderer);

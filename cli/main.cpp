@@ -240,6 +240,8 @@ int main(int argc, char** argv) {
                      "self-shadow texels across the yarn (default 128)");
   render->add_option("--self-shadow-slices", ro.appearance.selfShadowSlices,
                      "self-shadow slices over the ply twist (default 16)");
+  render->add_flag("!--no-core-texture", ro.appearance.coreTexture,
+                   "core strips without the core-fiber texture of 000 §3.2 (a smooth tube)");
   render->add_option("--self-shadow-kappa", ro.appearance.selfShadowKappa,
                      "κ of T = exp(-κD) (default 2 r_f, notes §0.3; 0: no self-shadow)");
   render->add_option("--backend", backend, "GL backend");

@@ -105,7 +105,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                        v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * secondsSince(t0), g.renderer);
     return 0;
   }
-  renderer.setShading(ShadingBakeGpu(g, defines).bake({v.shading, &v.fibers.fit.preset, o.appearance}));
+  renderer.setShading(ShadingBakeGpu(g, defines).bake({v.shading, &v.fibers.fit.preset, o.appearance, &v.fibers.params, &v.fibers.table}));
   const ImageRgbaF img = renderer.render(gpu, path, w, h);
   const double seconds = secondsSince(t0);
   if (const size_t bad = nonFiniteValues(img))

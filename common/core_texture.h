@@ -35,7 +35,9 @@
 namespace ft {
 inline bool ftFaultCoreTexturePresetS = false;
 inline bool ftFaultCoreTextureTangentSign = false;
+inline bool ftFaultCoreTextureViewSign = false;
 }
+#define FT_FAULT_CORE_TEXTURE_VIEW_SIGN_ON ::ft::ftFaultCoreTextureViewSign
 #define FT_FAULT_CORE_TEXTURE_PRESET_S_ON ::ft::ftFaultCoreTexturePresetS
 #define FT_FAULT_CORE_TEXTURE_TANGENT_SIGN_ON ::ft::ftFaultCoreTextureTangentSign
 #else
@@ -48,6 +50,11 @@ inline bool ftFaultCoreTextureTangentSign = false;
 #define FT_FAULT_CORE_TEXTURE_TANGENT_SIGN_ON true
 #else
 #define FT_FAULT_CORE_TEXTURE_TANGENT_SIGN_ON false
+#endif
+#ifdef FT_FAULT_CORE_TEXTURE_VIEW_SIGN
+#define FT_FAULT_CORE_TEXTURE_VIEW_SIGN_ON true
+#else
+#define FT_FAULT_CORE_TEXTURE_VIEW_SIGN_ON false
 #endif
 #endif
 
@@ -310,6 +317,18 @@ FT_FUNC float ftCoreBundlePhaseTurns(YarnParams p, float s, float kPly) {
 
 FT_FUNC float ftCoreTextureU(float phaseTurns, float psiRel, float kPsi) {
   return fract(phaseTurns - kPsi * psiRel / FT_TWO_PI);
+}
+
+// The convention the frame uses, settled by notes A1 C5 (validation case
+// appearance/core-texture/eq3, table in docs/core-texture.md): |k_ψ| = 1
+// with the sign of σ_f (fiber_clock_wise), and no ply-twist term (ψ_rel is
+// measured from the ply's own N̂_j, which turns with the ply, as the
+// generator places the fibers: ftFiberPosition).
+const float FT_CORE_TEXTURE_K_PSI = 1.0f;  // |k_ψ|
+const float FT_CORE_TEXTURE_K_PLY = 0.0f;
+FT_FUNC float ftCoreTextureKPsi(YarnParams p) {
+  float k = FT_CORE_TEXTURE_K_PSI * p.fiberTwistSign;
+  return FT_FAULT_CORE_TEXTURE_VIEW_SIGN_ON ? -k : k;
 }
 
 // Texel (i, j) of (u, v) in the width × height texture: u wraps (the texture

@@ -93,6 +93,10 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   } block{inputs.selfShadow, inputs.density};
   selfShadowUbo_ = makeBuffer(sizeof(block), &block);
   selfShadowTexels_ = makeBuffer(inputs.selfShadowTexels.size() * sizeof(float), inputs.selfShadowTexels.data());
+  // The core-fiber texture (000 §3.2) at the core-texture slots its bake shares.
+  coreTextureUbo_ = makeBuffer(sizeof(CoreTextureParams), &inputs.coreTexture);
+  coreTex0_ = makeBuffer(inputs.coreTex0.size() * sizeof(glm::vec4), inputs.coreTex0.data());
+  coreTex1_ = makeBuffer(inputs.coreTex1.size() * sizeof(glm::vec4), inputs.coreTex1.data());
 }
 
 void FiberRenderer::bindShading() const {
@@ -100,6 +104,9 @@ void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SELF_SHADOW, selfShadowUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SELF_SHADOW_TEXTURE, selfShadowTexels_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_CORE_TEXTURE, coreTextureUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX0, coreTex0_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX1, coreTex1_.id());
 }
 
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height) {

@@ -73,6 +73,7 @@ class FiberRenderer {
   std::vector<std::string> defines_;
   Program programs_[2];
   Buffer shadingUbo_, ambientTable_, selfShadowUbo_, selfShadowTexels_;
+  Buffer coreTextureUbo_, coreTex0_, coreTex1_;  // 000 §3.2 core-fiber texture
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
 };

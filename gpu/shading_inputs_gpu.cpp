@@ -1,6 +1,7 @@
 #include "gpu/shading_inputs_gpu.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
@@ -8,7 +9,7 @@
 namespace ft {
 
 ShadingBakeGpu::ShadingBakeGpu(const GlInfo& gl, const std::vector<std::string>& defines)
-    : bcsdf_(gl, defines), selfShadow_(gl, defines) {}
+    : bcsdf_(gl, defines), selfShadow_(gl, defines), coreTexture_(gl, defines) {}
 
 ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
   ShadingInputs in;
@@ -21,6 +22,16 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
     in.selfShadow = frameSelfShadowParams(in.density, request.appearance);
     in.selfShadowTexels = selfShadow_.bakeGrid(in.density, in.selfShadow);  // 000 Fig. 6: grid + prefix sum
     in.params.flags.w |= FT_APPEARANCE_SELF_SHADOW;
+  }
+  if (request.appearance.coreTexture) {  // 000 §3.2 (common/core_texture.h)
+    const CoreTextureInput core = frameCoreTextureInput(request, "ShadingBakeGpu");
+    if (core.params.coreFibers > 0) {
+      CoreTexture tex = coreTexture_.bake(core);
+      in.coreTexture = core.params;
+      in.coreTex0 = std::move(tex.tex0);
+      in.coreTex1 = std::move(tex.tex1);
+      in.params.flags.w |= FT_APPEARANCE_CORE_TEXTURE;
+    }
   }
   checkShadingInputs(in);
   return in;

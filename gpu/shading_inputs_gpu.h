@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gpu/bcsdf_gpu.h"
+#include "gpu/core_texture_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/self_shadow_gpu.h"
 #include "scene/shading_inputs.h"
@@ -23,6 +24,7 @@ class ShadingBakeGpu {
  private:
   BcsdfGpu bcsdf_;
   SelfShadowGpu selfShadow_;
+  CoreTextureGpu coreTexture_;
 };
 
 }  // namespace ft

@@ -1,8 +1,10 @@
 #include "reference/shading_inputs.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "reference/bcsdf_tables.h"
+#include "reference/core_texture.h"
 #include "reference/self_shadow.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
@@ -20,6 +22,16 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     in.selfShadow = frameSelfShadowParams(in.density, request.appearance);
     in.selfShadowTexels = bakeSelfShadowCpu(in.density, in.selfShadow).texels;
     in.params.flags.w |= FT_APPEARANCE_SELF_SHADOW;
+  }
+  if (request.appearance.coreTexture) {  // 000 §3.2 (common/core_texture.h)
+    const CoreTextureInput core = frameCoreTextureInput(request, "bakeShadingInputsCpu");
+    if (core.params.coreFibers > 0) {
+      CoreTexture tex = bakeCoreTextureEmbree(core);
+      in.coreTexture = core.params;
+      in.coreTex0 = std::move(tex.tex0);
+      in.coreTex1 = std::move(tex.tex1);
+      in.params.flags.w |= FT_APPEARANCE_CORE_TEXTURE;
+    }
   }
   checkShadingInputs(in);
   return in;

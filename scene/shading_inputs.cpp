@@ -38,6 +38,26 @@ void checkShadingInputs(const ShadingInputs& inputs) {
     if (!std::isfinite(inputs.selfShadowTexels[k]))
       throw std::invalid_argument(
           fmt::format("shading inputs: self-shadow texel {} is {}", k, inputs.selfShadowTexels[k]));
+  const bool core = (inputs.params.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u;
+  const size_t coreTexels = size_t(inputs.coreTexture.columns) * inputs.coreTexture.height;
+  if (core && (coreTexels == 0 || inputs.coreTexture.columns != inputs.coreTexture.width ||
+               inputs.coreTex0.size() != coreTexels || inputs.coreTex1.size() != coreTexels))
+    throw std::invalid_argument(fmt::format("shading inputs: core texture has {} / {} texels, its layout {}",
+                                            inputs.coreTex0.size(), inputs.coreTex1.size(), coreTexels));
+  for (size_t k = 0; core && k < coreTexels; ++k) {
+    const glm::vec4 a = inputs.coreTex0[k], b = inputs.coreTex1[k];
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(a[c]) || !std::isfinite(b[c]))
+        throw std::invalid_argument(fmt::format("shading inputs: core texel {} is not finite", k));
+  }
+}
+
+CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& r, const char* who) {
+  if (!r.yarnParams || !r.fiberTable)
+    throw std::invalid_argument(fmt::format("{}: the core texture needs the frame's yarn parameters and fiber table", who));
+  if (ftCoreFiberCount(*r.yarnParams) == 0) return {};  // every fiber explicit: nothing to texture
+  return makeCoreTextureInput(*r.yarnParams, *r.fiberTable, r.appearance.coreTextureWidth,
+                              r.appearance.coreTextureHeight);
 }
 
 }  // namespace ft

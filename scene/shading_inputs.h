@@ -10,9 +10,11 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "common/core_texture.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
 #include "common/yarn_density.h"
+#include "scene/core_texture_input.h"
 
 namespace ft {
 
@@ -24,10 +26,15 @@ struct AppearanceOptions {
   uint32_t selfShadowSize = FT_SELF_SHADOW_DEFAULT_SIZE;
   uint32_t selfShadowSlices = FT_SELF_SHADOW_DEFAULT_SLICES;
   float selfShadowKappa = -1.0f;  // κ of T = exp(−κD); negative: the default 2 r_f (notes §0.3)
+  // 000 §3.2: the core-fiber texture on the core strips (common/core_texture.h).
+  bool coreTexture = true;
+  uint32_t coreTextureWidth = FT_CORE_TEXTURE_WIDTH;
+  uint32_t coreTextureHeight = FT_CORE_TEXTURE_HEIGHT;
 
   static AppearanceOptions none() {
     AppearanceOptions o;
     o.selfShadow = false;
+    o.coreTexture = false;
     return o;
   }
 };
@@ -42,6 +49,11 @@ struct ShadingInputs {
   SelfShadowParams selfShadow{};
   YarnDensityParams density{};
   std::vector<float> selfShadowTexels;
+  // The core-fiber texture (000 §3.2) of the frame's preset; no texels: off
+  // (FT_APPEARANCE_CORE_TEXTURE). coreTexture.columns × height texels each.
+  CoreTextureParams coreTexture{};
+  std::vector<glm::vec4> coreTex0;  // (h, n_u, n_v, 0)
+  std::vector<glm::vec4> coreTex1;  // (t_u, t_v, t_w, 0)
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -50,12 +62,22 @@ struct ShadingBakeRequest {
   ShadingParams params{};
   const struct YarnPreset* fittedPreset = nullptr;  // needed when an approximation is on
   AppearanceOptions appearance;
+  // The frame's generator inputs (the core texture is baked from its fiber
+  // table): needed when the core texture is on.
+  const YarnParams* yarnParams = nullptr;
+  const std::vector<FiberCoord>* fiberTable = nullptr;
 };
 
 // The frame's self-shadow layout for `density` (ftSelfShadowParams); InputError
 // naming the option for a size outside [3, 4096] (slices [1, 4096]) or a κ
 // that is NaN or infinite.
 SelfShadowParams frameSelfShadowParams(const YarnDensityParams& density, const AppearanceOptions& options);
+
+// The core texture a request asks for (AppearanceOptions.coreTextureWidth ×
+// Height, the request's fiber table), or nothing (coreFibers 0) when the
+// preset has no core fibers. std::invalid_argument naming `who` without the
+// fiber table; InputError (naming the option) for a bad size.
+CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& request, const char* who);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

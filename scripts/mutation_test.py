@@ -236,7 +236,7 @@ def is_knit(rel):
 # are mapped by one line here.
 #   (path regex, harness filter or None, unit tests)
 RULES = [
-    (r"core_texture", "^core-texture/", ["core_texture_test"]),
+    (r"core_texture", "^(appearance/)?core-texture/", ["core_texture_test"]),
     (r"self_shadow", "^(selfshadow|appearance)/", ["self_shadow_test"]),
     (r"ambient_occlusion", "^ao/", ["ambient_occlusion_test"]),
     (r"yarn_density", "^(selfshadow|ao)/", ["yarn_density_test", "self_shadow_test", "ambient_occlusion_test"]),

@@ -42,6 +42,7 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SELF_SHADOW_PSI_SIGN") ftFaultSelfShadowPsiSign = on;
   if (define == "FT_FAULT_CORE_TEXTURE_PRESET_S") ftFaultCoreTexturePresetS = on;
   if (define == "FT_FAULT_CORE_TEXTURE_TANGENT_SIGN") ftFaultCoreTextureTangentSign = on;
+  if (define == "FT_FAULT_CORE_TEXTURE_VIEW_SIGN") ftFaultCoreTextureViewSign = on;
   if (define == "FT_FAULT_AO_HALF_CIRCLE") ftFaultAoHalfCircle = on;
   if (define == "FT_FAULT_AO_LINEAR_VISIBILITY") ftFaultAoLinearVisibility = on;
 }

@@ -456,7 +456,15 @@ struct Approximation {
 std::vector<Approximation> fidelityRows() {
   AppearanceOptions selfShadow = AppearanceOptions::none();
   selfShadow.selfShadow = true;
-  return {{"none", AppearanceOptions::none()}, {"self-shadow", selfShadow}};
+  // 000 §3.2: the core-fiber texture on the core strips, alone and with the self-shadows.
+  AppearanceOptions core = AppearanceOptions::none();
+  core.coreTexture = true;
+  AppearanceOptions coreShadow = selfShadow;
+  coreShadow.coreTexture = true;
+  return {{"none", AppearanceOptions::none()},
+          {"self-shadow", selfShadow},
+          {"core-texture", core},
+          {"core-texture+self-shadow", coreShadow}};
 }
 
 CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const std::string& light,
@@ -477,7 +485,7 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   gpu.setParams(in.setup->params, in.view);
   gpu.setSegmentList({});
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
-  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, &fitted.fit.preset, row.options}));
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, &fitted.fit.preset, row.options, &in.setup->params, &in.setup->table}));
   const ImageRgbaF img = renderer.render(gpu, FiberPath::Compute, kWidth, kHeight);
   r.gpuMilliseconds = msSince(t0);
   const auto t1 = Clock::now();

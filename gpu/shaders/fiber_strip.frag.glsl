@@ -18,6 +18,7 @@
 //    the shared BCSDF per directional light plus the ambient table, in linear
 //    HDR radiance (a float target), alpha 1 for coverage.
 #include "common/constants.h"
+#include "common/core_texture.h"
 #include "common/fiber_geometry.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
@@ -33,6 +34,9 @@ layout(std140, binding = FT_UBO_SELF_SHADOW) uniform SelfShadowBlock {
   YarnDensityParams selfShadowDensity;
 };
 layout(std430, binding = FT_SSBO_SELF_SHADOW_TEXTURE) readonly buffer SelfShadowTexture { float selfShadowTexels[]; };
+layout(std140, binding = FT_UBO_CORE_TEXTURE) uniform CoreTextureBlock { CoreTextureParams coreTexture; };
+layout(std430, binding = FT_SSBO_CORE_TEX0) readonly buffer CoreTex0 { vec4 coreTex0[]; };
+layout(std430, binding = FT_SSBO_CORE_TEX1) readonly buffer CoreTex1 { vec4 coreTex1[]; };
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -155,6 +159,67 @@ float selfShadowTransmittance(CrossSection c, vec3 wi) {
   return ftSelfShadowTransmittance(selfShadow, s, density);
 }
 
+// ---- the core-fiber texture (000 §3.2, eq. 3–4; common/core_texture.h) ----
+// The core strip's hit, in the ply frame of the generator (ftPlyFrame,
+// ftFiberPosition): z along the yarn's T̂, x along the ply's own N̂_j (from the
+// yarn centre to the ply centre), y along B̂_j = T̂ × N̂_j. The bake looks along
+// −x; a viewer at azimuth ψ_rel from N̂_j sees the texture at
+// u = ftCoreTextureU(Φ(s), ψ_rel, k_ψ) (eq. 3 as settled: docs/core-texture.md),
+// v across the strip, whose half-width is the core's at the LoD of eq. 4
+// (ftCoreHalfWidthAt: λ² towards the whole ply), so the texture stretches
+// with it. Returns false on a hole (h = 0 at the nearest texel: 000 "use the
+// height-map to determine these holes"), else replaces the hit's normal,
+// tangent (the BCSDF's fiber direction) and position (moved by h towards the
+// viewer, which the self-shadow lookup then uses).
+vec4 coreTexel0(uint i, uint j) { return coreTex0[j * coreTexture.columns + i]; }
+vec4 coreTexel1(uint i, uint j) { return coreTex1[j * coreTexture.columns + i]; }
+vec4 coreLerp0(CoreLookup l) {
+  return mix(mix(coreTexel0(l.i.x, l.j.x), coreTexel0(l.i.y, l.j.x), l.w.x),
+             mix(coreTexel0(l.i.x, l.j.y), coreTexel0(l.i.y, l.j.y), l.w.x), l.w.y);
+}
+vec4 coreLerp1(CoreLookup l) {
+  return mix(mix(coreTexel1(l.i.x, l.j.x), coreTexel1(l.i.y, l.j.x), l.w.x),
+             mix(coreTexel1(l.i.x, l.j.y), coreTexel1(l.i.y, l.j.y), l.w.x), l.w.y);
+}
+bool applyCoreTexture(inout FiberHit h) {
+  CrossSection c = crossSection(h);
+  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
+  vec3 T = normalize(cross(c.N, c.B));
+  vec3 axisPoint = mix(lineP0, lineP1, h.along);  // the ply centre (the core runs along it)
+  vec3 q = axisPoint - cs.xyz;
+  q -= dot(q, T) * T;
+  vec3 plyN = dot(q, q) > 1e-6 * yarn.plyRadius * yarn.plyRadius
+                  ? normalize(q)
+                  : cos(c.plyAngle) * c.N + sin(c.plyAngle) * c.B;  // one ply on the axis: ply 0's frame
+  vec3 plyB = cross(T, plyN);
+  vec3 toEye = normalize(view.cameraPos.xyz - h.position);
+  vec3 vp = toEye - dot(toEye, T) * T;
+  vp = dot(vp, vp) > 1e-12 ? normalize(vp) : plyN;  // seen end-on: any azimuth
+  float psiRel = atan(dot(vp, plyB), dot(vp, plyN));
+  vec3 side = cross(T, vp);  // the texture's y: B̂_j when ψ_rel = 0
+  // Φ(s) with the curve's own rates (whole turns on closed curves, as the generator).
+  TwistRates r = ftTwistRates(yarn, curves[lineCurve]);
+  YarnParams rates = yarn;
+  rates.fiberTurnsPerLength = r.fiber;
+  rates.plyTurnsPerLength = r.ply;
+  float u = ftCoreTextureU(ftCoreBundlePhaseTurns(rates, cs.w, FT_CORE_TEXTURE_K_PLY), psiRel, ftCoreTextureKPsi(yarn));
+  float halfWidth = max(mix(lineHalfWidth.x, lineHalfWidth.y, h.along), 1e-30);
+  float y = dot(h.position - axisPoint, side);
+  float v = 0.5 + 0.5 * y / halfWidth;
+  CoreLookup l = ftCoreTextureLookup(coreTexture.width, coreTexture.height, u, v);
+  uint ni = l.w.x < 0.5 ? l.i.x : l.i.y, nj = l.w.y < 0.5 ? l.j.x : l.j.y;
+#ifndef FT_FAULT_FRAME_CORE_HOLES_DRAWN
+  if (coreTexel0(ni, nj).x <= 0.0) return false;  // a hole: what lies behind shows through
+#endif
+  vec4 t0 = coreLerp0(l), t1 = coreLerp1(l);
+  vec3 n = ftCoreTexelNormal(t0);  // (n_x toward the viewer, n_y, n_z) in the bake frame
+  h.normal = normalize(n.z * T + n.y * side + n.x * vp);
+  vec3 t = t1.x * T + t1.y * side + t1.z * vp;
+  if (dot(t, t) > 0.0) h.tangent = normalize(t);
+  h.position = axisPoint + (2.0 * t0.x - 1.0) * halfWidth * vp + y * side;
+  return true;
+}
+
 vec3 shadeFiber(FiberHit h) {
   vec3 v = normalize(view.cameraPos.xyz - h.position);
   vec3 radiance = vec3(0.0);
@@ -202,6 +267,9 @@ void main() {
   }
   mask &= gl_SampleMaskIn[0];
   if (mask == 0 || !shadeHit) discard;
+  if (stripType == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u && shaded != 0u &&
+      !applyCoreTexture(h))
+    discard;
   gl_SampleMask[0] = mask;
   if (shaded != 0u) {
     color = vec4(shadeFiber(h), 1.0);
