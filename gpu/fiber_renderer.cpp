@@ -102,6 +102,9 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   } block{inputs.selfShadow, inputs.density};
   selfShadowUbo_ = makeBuffer(sizeof(block), &block);
   selfShadowTexels_ = makeBuffer(inputs.selfShadowTexels.size() * sizeof(float), inputs.selfShadowTexels.data());
+  // Ambient occlusion (000 §4.2): its params (with the cubic) and texture.
+  aoUbo_ = makeBuffer(sizeof(AmbientOcclusionParams), &inputs.aoParams);
+  aoTexels_ = makeBuffer(inputs.aoTexels.size() * sizeof(float), inputs.aoTexels.data());
 }
 
 void FiberRenderer::bindShading() const {
@@ -109,6 +112,8 @@ void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SELF_SHADOW, selfShadowUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SELF_SHADOW_TEXTURE, selfShadowTexels_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_AMBIENT_OCCLUSION, aoUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AO_TEXTURE, aoTexels_.id());
 }
 
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height) {

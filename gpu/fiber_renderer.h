@@ -73,6 +73,7 @@ class FiberRenderer {
   std::vector<std::string> defines_;
   Program programs_[2];
   Buffer shadingUbo_, ambientTable_, selfShadowUbo_, selfShadowTexels_;
+  Buffer aoUbo_, aoTexels_;  // ambient occlusion (000 §4.2)
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
 };

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/ambient_occlusion_gpu.h"
 #include "gpu/bcsdf_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/self_shadow_gpu.h"
@@ -23,6 +24,7 @@ class ShadingBakeGpu {
  private:
   BcsdfGpu bcsdf_;
   SelfShadowGpu selfShadow_;
+  AmbientOcclusionGpu ao_;
 };
 
 }  // namespace ft

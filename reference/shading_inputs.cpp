@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "reference/ambient_occlusion.h"
 #include "reference/bcsdf_tables.h"
 #include "reference/self_shadow.h"
 #include "scene/yarn_density.h"
@@ -20,6 +21,16 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     in.selfShadow = frameSelfShadowParams(in.density, request.appearance);
     in.selfShadowTexels = bakeSelfShadowCpu(in.density, in.selfShadow).texels;
     in.params.flags.w |= FT_APPEARANCE_SELF_SHADOW;
+  }
+  // Ambient occlusion (000 §4.2): the CPU texture (exact line integral) and
+  // the cubic fitted to its radial average; both modes carry both.
+  if (request.appearance.ao != AoMode::None) {
+    if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: ambient occlusion needs the yarn preset");
+    in.density = makeYarnDensity(*request.fittedPreset);
+    in.aoParams = makeAoParams(in.density, request.appearance.aoSettings);
+    in.aoTexels = bakeAmbientOcclusionCpu(in.aoParams).ao;
+    in.aoParams.cubic = glm::vec4(fitAoCubic(std::span<const float>(in.aoTexels), int(in.aoParams.resolution)).coefficients);
+    in.params.flags.w |= request.appearance.ao == AoMode::Fit ? FT_APPEARANCE_AO_FIT : FT_APPEARANCE_AO_TEXTURE;
   }
   checkShadingInputs(in);
   return in;

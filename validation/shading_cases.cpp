@@ -459,6 +459,23 @@ std::vector<Approximation> fidelityRows() {
   return {{"none", AppearanceOptions::none()}, {"self-shadow", selfShadow}};
 }
 
+// ---- Ambient occlusion (000 §4.2) in the fidelity table ----
+// Lit by the uniform ambient alone. The direct-mode reference adds the
+// ambient term unoccluded even with shadow rays, so the reference here is the
+// path-traced one (reference/fiber_trace.h, multiple scattering): every
+// escaping path sees the environment, so the fibers occlude it (and light
+// between fibers is carried) — what AO approximates. Depth 8, 4 spp (the
+// GPU's multisample positions): CI size, about a second per fabric here.
+constexpr float kAoFidelityAmbient = 1.0f;
+constexpr int kAoFidelityDepth = 8;
+std::vector<Approximation> aoFidelityRows() {
+  AppearanceOptions fit = AppearanceOptions::none(), texture = AppearanceOptions::none();
+  fit.ao = AoMode::Fit;
+  texture.ao = AoMode::Texture;
+  fit.aoSettings = texture.aoSettings = AoSettings::ci();
+  return {{"none", AppearanceOptions::none()}, {"ao-fit", fit}, {"ao-texture", texture}};
+}
+
 CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const std::string& light,
                        const Approximation& row, const std::string& name) {
   CaseResult r;
@@ -466,7 +483,13 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   r.group = "shading";
   r.path = "compute";
   GroundTruthInputs& in = groundTruthInputs(ctx);
-  const ShadingParams s = makeShadingParams(caseLighting(fabric, lightDirection(light, in.camera)));
+  const bool ambientOnly = light == "ambient";  // the AO rows (above)
+  Lighting lighting = caseLighting(fabric, lightDirection(ambientOnly ? "front" : light, in.camera));
+  if (ambientOnly) {
+    lighting.lights.clear();
+    lighting.ambient = glm::vec3(kAoFidelityAmbient);
+  }
+  const ShadingParams s = makeShadingParams(lighting);
   const YarnPreset& preset = shadingPreset(ctx);
   const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
     return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
@@ -488,6 +511,10 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
         o.samplePositions = renderer.samplePositions();
         o.samplesPerPixel = static_cast<int>(o.samplePositions.size());
         o.shadows = true;
+        if (ambientOnly) {  // the environment occluded by the fibers: path traced
+          o.multipleScattering = true;
+          o.maxDepth = kAoFidelityDepth;
+        }
         return traceFibers(scene, in.camera, s,
                            bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable, o);
       });
@@ -723,6 +750,10 @@ void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
       const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
       out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
     }
+  for (const Approximation& row : aoFidelityRows()) {
+    const std::string name = fmt::format("shading/fidelity/{}/ambient/{}", kFullFabric, row.name);
+    out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, "ambient", row, name); }});
+  }
   for (bool tess : {false, true}) {
     const std::string name = fmt::format("shading/full/{}/{}", kFullFabric, tess ? "tessellation" : "compute");
     out.push_back({name, [=](ValidationContext& c) { return runFull(c, kFullFabric, tess, name); }});
