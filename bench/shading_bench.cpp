@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
     ft::takeFlag(argc, argv, "fabric", fabric);
     ft::AppearanceOptions appearance;  // every approximation of 000 §4 that is built: what a frame costs
     if (ft::takeFlag(argc, argv, "self-shadow", n)) appearance.selfShadow = n != "0";
+    if (ft::takeFlag(argc, argv, "ao", n)) appearance.ao = ft::parseAoMode(n);  // none | fit | texture
     if (ft::takeFlag(argc, argv, "width", n)) setup.width = std::max(16, std::atoi(n.c_str()));
     if (ft::takeFlag(argc, argv, "height", n)) setup.height = std::max(16, std::atoi(n.c_str()));
     setup.model = ft::readBcc(modelPath);
@@ -116,6 +117,7 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("yarn", yarn);
     benchmark::AddCustomContext("fabric", fabric);
     benchmark::AddCustomContext("self_shadow", appearance.selfShadow ? "on (000 §4.1, 128x128x16)" : "off");
+    benchmark::AddCustomContext("ao", fmt::format("{} (000 §4.2, 128x128, GPU marched bake)", ft::aoModeName(appearance.ao)));
     benchmark::AddCustomContext("viewport", fmt::format("{}x{}, 4x MSAA, RGBA32F", setup.width, setup.height));
     // 000 Table 1 (Wu & Yuksel 2019, GTX 1080, 1280×960), ms as close / worst / full view:
     // not comparable hardware, context only.

@@ -244,6 +244,9 @@ int main(int argc, char** argv) {
                    "core strips without the core-fiber texture of 000 §3.2 (a smooth tube)");
   render->add_option("--self-shadow-kappa", ro.appearance.selfShadowKappa,
                      "κ of T = exp(-κD) (default 2 r_f, notes §0.3; 0: no self-shadow)");
+  std::string renderAo = "fit";
+  render->add_option("--ao", renderAo,
+                     "ambient occlusion of 000 §4.2: none, fit (the distance-based cubic, default) or texture");
   render->add_option("--backend", backend, "GL backend");
   render->add_option("--inject", ro.inject,
                      "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");
@@ -351,6 +354,7 @@ int main(int argc, char** argv) {
       finishViewOptions(ro.view, renderText);
       if (ro.preview && ro.view.out.extension() == ".exr") ro.view.out.replace_extension(".png");
       ro.backend = parseBackend(backend);
+      ro.appearance.ao = ft::parseAoMode(renderAo);
       return ft::runRenderCommand(ro, std::cout);
     }
     if (trace->parsed()) {

@@ -37,6 +37,8 @@ inline bool ftFaultShadingCosDropped = false;
 // (scene/shading_inputs.h AppearanceOptions).
 #define FT_APPEARANCE_SELF_SHADOW 1u  // 000 §4.1 self-shadow texture (common/self_shadow.h)
 #define FT_APPEARANCE_CORE_TEXTURE 2u  // 000 §3.2 core-fiber texture on the core strips (common/core_texture.h)
+#define FT_APPEARANCE_AO_FIT 4u       // 000 §4.2 AO, distance-based cubic (common/ambient_occlusion.h)
+#define FT_APPEARANCE_AO_TEXTURE 8u   // 000 §4.2 AO, the rotated 2D texture
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 

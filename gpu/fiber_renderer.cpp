@@ -97,6 +97,9 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   coreTextureUbo_ = makeBuffer(sizeof(CoreTextureParams), &inputs.coreTexture);
   coreTex0_ = makeBuffer(inputs.coreTex0.size() * sizeof(glm::vec4), inputs.coreTex0.data());
   coreTex1_ = makeBuffer(inputs.coreTex1.size() * sizeof(glm::vec4), inputs.coreTex1.data());
+  // Ambient occlusion (000 §4.2): its params (with the cubic) and texture.
+  aoUbo_ = makeBuffer(sizeof(AmbientOcclusionParams), &inputs.aoParams);
+  aoTexels_ = makeBuffer(inputs.aoTexels.size() * sizeof(float), inputs.aoTexels.data());
 }
 
 void FiberRenderer::bindShading() const {
@@ -107,6 +110,8 @@ void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_CORE_TEXTURE, coreTextureUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX0, coreTex0_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX1, coreTex1_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_AMBIENT_OCCLUSION, aoUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AO_TEXTURE, aoTexels_.id());
 }
 
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height) {

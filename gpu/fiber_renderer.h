@@ -74,6 +74,7 @@ class FiberRenderer {
   Program programs_[2];
   Buffer shadingUbo_, ambientTable_, selfShadowUbo_, selfShadowTexels_;
   Buffer coreTextureUbo_, coreTex0_, coreTex1_;  // 000 §3.2 core-fiber texture
+  Buffer aoUbo_, aoTexels_;  // ambient occlusion (000 §4.2)
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
 };

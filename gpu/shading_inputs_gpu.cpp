@@ -9,7 +9,7 @@
 namespace ft {
 
 ShadingBakeGpu::ShadingBakeGpu(const GlInfo& gl, const std::vector<std::string>& defines)
-    : bcsdf_(gl, defines), selfShadow_(gl, defines), coreTexture_(gl, defines) {}
+    : bcsdf_(gl, defines), selfShadow_(gl, defines), coreTexture_(gl, defines), ao_(gl, defines) {}
 
 ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
   ShadingInputs in;
@@ -32,6 +32,17 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
       in.coreTex1 = std::move(tex.tex1);
       in.params.flags.w |= FT_APPEARANCE_CORE_TEXTURE;
     }
+  }
+  // Ambient occlusion (000 §4.2): the paper-faithful GPU texture (density
+  // grid, rays marched through it, Fig. 8a–b), then the same host-side cubic
+  // fit as the CPU bake (scene/ambient_occlusion_setup.h) of this texture.
+  if (request.appearance.ao != AoMode::None) {
+    if (!request.fittedPreset) throw std::invalid_argument("ShadingBakeGpu: ambient occlusion needs the yarn preset");
+    in.density = makeYarnDensity(*request.fittedPreset);
+    in.aoParams = makeAoParams(in.density, request.appearance.aoSettings);
+    in.aoTexels = ao_.bakeMarched(in.aoParams);
+    in.aoParams.cubic = glm::vec4(fitAoCubic(std::span<const float>(in.aoTexels), int(in.aoParams.resolution)).coefficients);
+    in.params.flags.w |= request.appearance.ao == AoMode::Fit ? FT_APPEARANCE_AO_FIT : FT_APPEARANCE_AO_TEXTURE;
   }
   checkShadingInputs(in);
   return in;

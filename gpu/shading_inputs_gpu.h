@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/ambient_occlusion_gpu.h"
 #include "gpu/bcsdf_gpu.h"
 #include "gpu/core_texture_gpu.h"
 #include "gpu/gl_context.h"
@@ -25,6 +26,7 @@ class ShadingBakeGpu {
   BcsdfGpu bcsdf_;
   SelfShadowGpu selfShadow_;
   CoreTextureGpu coreTexture_;
+  AmbientOcclusionGpu ao_;
 };
 
 }  // namespace ft

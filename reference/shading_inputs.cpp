@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "reference/ambient_occlusion.h"
 #include "reference/bcsdf_tables.h"
 #include "reference/core_texture.h"
 #include "reference/self_shadow.h"
@@ -32,6 +33,16 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
       in.coreTex1 = std::move(tex.tex1);
       in.params.flags.w |= FT_APPEARANCE_CORE_TEXTURE;
     }
+  }
+  // Ambient occlusion (000 §4.2): the CPU texture (exact line integral) and
+  // the cubic fitted to its radial average; both modes carry both.
+  if (request.appearance.ao != AoMode::None) {
+    if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: ambient occlusion needs the yarn preset");
+    in.density = makeYarnDensity(*request.fittedPreset);
+    in.aoParams = makeAoParams(in.density, request.appearance.aoSettings);
+    in.aoTexels = bakeAmbientOcclusionCpu(in.aoParams).ao;
+    in.aoParams.cubic = glm::vec4(fitAoCubic(std::span<const float>(in.aoTexels), int(in.aoParams.resolution)).coefficients);
+    in.params.flags.w |= request.appearance.ao == AoMode::Fit ? FT_APPEARANCE_AO_FIT : FT_APPEARANCE_AO_TEXTURE;
   }
   checkShadingInputs(in);
   return in;

@@ -20,6 +20,22 @@ SelfShadowParams frameSelfShadowParams(const YarnDensityParams& density, const A
   return ftSelfShadowParams(density, o.selfShadowSize, o.selfShadowSize, o.selfShadowSlices, kappa);
 }
 
+AoMode parseAoMode(const std::string& name) {
+  if (name == "none") return AoMode::None;
+  if (name == "fit") return AoMode::Fit;
+  if (name == "texture") return AoMode::Texture;
+  throw InputError(fmt::format("--ao: '{}' is not one of none, fit, texture", name));
+}
+
+const char* aoModeName(AoMode mode) {
+  switch (mode) {
+    case AoMode::None: return "none";
+    case AoMode::Fit: return "fit";
+    case AoMode::Texture: return "texture";
+  }
+  return "?";
+}
+
 void checkShadingInputs(const ShadingInputs& inputs) {
   if (inputs.ambientTable.size() != FT_AMBIENT_TABLE_SIZE)
     throw std::invalid_argument(fmt::format("shading inputs: ambient table has {} texels, expected {}",
@@ -50,6 +66,20 @@ void checkShadingInputs(const ShadingInputs& inputs) {
       if (!std::isfinite(a[c]) || !std::isfinite(b[c]))
         throw std::invalid_argument(fmt::format("shading inputs: core texel {} is not finite", k));
   }
+  // Ambient occlusion (000 §4.2).
+  const bool ao = (inputs.params.flags.w & (FT_APPEARANCE_AO_FIT | FT_APPEARANCE_AO_TEXTURE)) != 0u;
+  const size_t aoTexels = size_t(inputs.aoParams.resolution) * inputs.aoParams.resolution;
+  if (ao && (aoTexels == 0 || inputs.aoTexels.size() != aoTexels))
+    throw std::invalid_argument(fmt::format("shading inputs: AO texture has {} texels, its layout {}",
+                                            inputs.aoTexels.size(), aoTexels));
+  for (size_t k = 0; ao && k < aoTexels; ++k)
+    if (!std::isfinite(inputs.aoTexels[k]))
+      throw std::invalid_argument(fmt::format("shading inputs: AO texel {} is {}", k, inputs.aoTexels[k]));
+  const glm::vec4 c = inputs.aoParams.cubic;
+  if (ao && !(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && std::isfinite(c.w) &&
+              inputs.aoParams.halfWidth > 0.0f))
+    throw std::invalid_argument(fmt::format("shading inputs: AO cubic ({}, {}, {}, {}) or half width {}", c.x, c.y,
+                                            c.z, c.w, inputs.aoParams.halfWidth));
 }
 
 CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& r, const char* who) {

@@ -8,12 +8,15 @@
 // trace, the harness, the benches — goes through those.
 #pragma once
 #include <glm/glm.hpp>
+#include <string>
 #include <vector>
 
+#include "common/ambient_occlusion.h"
 #include "common/core_texture.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
 #include "common/yarn_density.h"
+#include "scene/ambient_occlusion_setup.h"
 #include "scene/core_texture_input.h"
 
 namespace ft {
@@ -21,6 +24,13 @@ namespace ft {
 // Which of 000 §4's approximations a frame uses, and at what size (each is
 // switchable, so the fidelity of each can be measured against the all-fiber
 // reference).
+// 000 §4.2's two ways of using the yarn's ambient occlusion: none, the
+// distance-based cubic (000's results use it), the rotated 2D texture.
+enum class AoMode { None, Fit, Texture };
+// "none" | "fit" | "texture"; InputError naming --ao otherwise.
+AoMode parseAoMode(const std::string& name);
+const char* aoModeName(AoMode mode);
+
 struct AppearanceOptions {
   bool selfShadow = true;  // 000 §4.1: the self-shadow 3D texture (common/self_shadow.h)
   uint32_t selfShadowSize = FT_SELF_SHADOW_DEFAULT_SIZE;
@@ -30,11 +40,15 @@ struct AppearanceOptions {
   bool coreTexture = true;
   uint32_t coreTextureWidth = FT_CORE_TEXTURE_WIDTH;
   uint32_t coreTextureHeight = FT_CORE_TEXTURE_HEIGHT;
+  // ---- ambient occlusion (000 §4.2; common/ambient_occlusion.h) ----
+  AoMode ao = AoMode::Fit;  // 000's results use the distance-based cubic
+  AoSettings aoSettings{};  // texture size, directions, κ (0: 2 r_f) of the bake
 
   static AppearanceOptions none() {
     AppearanceOptions o;
     o.selfShadow = false;
     o.coreTexture = false;
+    o.ao = AoMode::None;
     return o;
   }
 };
@@ -54,6 +68,13 @@ struct ShadingInputs {
   CoreTextureParams coreTexture{};
   std::vector<glm::vec4> coreTex0;  // (h, n_u, n_v, 0)
   std::vector<glm::vec4> coreTex1;  // (t_u, t_v, t_w, 0)
+  // ---- ambient occlusion (000 §4.2) ----
+  // Its params (the cubic's a0..a3 in aoParams.cubic, W, κ) and the n × n
+  // texture (texel j·n + i); empty unless a mode is on (FT_APPEARANCE_AO_FIT
+  // or FT_APPEARANCE_AO_TEXTURE of params.flags.w). Both modes carry both, so
+  // the frame can be compared with either.
+  AmbientOcclusionParams aoParams{};
+  std::vector<float> aoTexels;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:

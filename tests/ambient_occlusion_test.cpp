@@ -13,6 +13,10 @@
 #include "common/ambient_occlusion.h"
 #include "common/fiber_geometry.h"
 #include "reference/ambient_occlusion.h"
+#include "reference/shading_inputs.h"
+#include "scene/input_error.h"
+#include "scene/lighting.h"
+#include "scene/shading_inputs.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
 
@@ -249,6 +253,47 @@ TEST(AmbientOcclusion, RefusesBadSettingsNamingThem) {
   s.marchStep = 0.0f;
   EXPECT_NE(message(s).find("march step 0"), std::string::npos) << message(s);
   EXPECT_THROW(fitAoCubic(std::span<const double>(std::vector<double>(10)), 4), std::invalid_argument);
+}
+
+// ---- The AO inputs of the shaded frame (scene/shading_inputs.h) ----
+
+TEST(AoFrameInputs, ParsesModesAndNamesTheOptionOnBadInput) {
+  EXPECT_EQ(parseAoMode("none"), AoMode::None);
+  EXPECT_EQ(parseAoMode("fit"), AoMode::Fit);
+  EXPECT_EQ(parseAoMode("texture"), AoMode::Texture);
+  try {
+    parseAoMode("cubic");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--ao"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(AppearanceOptions{}.ao, AoMode::Fit);  // 000's results use the distance-based cubic
+  EXPECT_EQ(AppearanceOptions::none().ao, AoMode::None);
+}
+
+TEST(AoFrameInputs, CpuBakeFillsTextureCubicAndFlagAndRefusesBrokenInputs) {
+  const YarnPreset preset = findYarnPreset("cotton1");
+  AppearanceOptions a = AppearanceOptions::none();
+  a.ao = AoMode::Texture;
+  a.aoSettings = AoSettings::ci();
+  const ShadingInputs in = bakeShadingInputsCpu({makeShadingParams(Lighting{}), &preset, a});
+  EXPECT_EQ(in.params.flags.w & (FT_APPEARANCE_AO_FIT | FT_APPEARANCE_AO_TEXTURE), FT_APPEARANCE_AO_TEXTURE);
+  ASSERT_EQ(in.aoTexels.size(), size_t(64) * 64);
+  // The cubic is the fit of the baked texture (not, say, of another size's).
+  const glm::dvec4 c = fitAoCubic(std::span<const float>(in.aoTexels), 64).coefficients;
+  EXPECT_NEAR(in.aoParams.cubic.x, c.x, 1e-6);
+  EXPECT_NEAR(in.aoParams.cubic.w, c.w, 1e-6);
+  ShadingInputs bad = in;
+  bad.aoTexels[17] = std::nanf("");
+  EXPECT_THROW(checkShadingInputs(bad), std::invalid_argument);
+  bad = in;
+  bad.aoTexels.pop_back();
+  EXPECT_THROW(checkShadingInputs(bad), std::invalid_argument);
+  bad = in;
+  bad.aoParams.cubic.y = INFINITY;
+  EXPECT_THROW(checkShadingInputs(bad), std::invalid_argument);
+  // Without the preset: an error, not a crash.
+  EXPECT_THROW(bakeShadingInputsCpu({makeShadingParams(Lighting{}), nullptr, a}), std::invalid_argument);
 }
 
 }  // namespace

@@ -257,6 +257,198 @@ CaseResult runCoreTextureFrame(ValidationContext& ctx, bool tessellation) {
   return r;
 }
 
+// ---- appearance/ao/*: ambient occlusion (000 §4.2) in the frame ----------
+// One straight yarn drawn as its core tube alone (radius R, on the axis; as
+// shading/closed-form's core variant), seen side-on, with cotton1's AO. The
+// visible surface is the tube, so every hit lies at distance R from the yarn
+// axis: r̂ = R/W at every covered pixel, whatever its ray (the geometric
+// estimate, no code from common/). Ambient light only, the frame with AO over
+// the frame without it is then the cubic at R/W, computed here from the
+// fitted coefficients; the texture's lookup at radius R is a bilinear mix of
+// texels whose centres lie within √2 texels of that ring, so it lies within
+// their range. A light without ambient: AO changes nothing (000 Fig. 12d:
+// AO scales the ambient term only). AO ≡ 1 (texture of ones, cubic 1):
+// the frame without AO, exactly. R = 0.8 W: the cubic there is far from its
+// value at the ply centres, where a frame measuring r̂ from a ply centre lands.
+struct AoTube {
+  YarnBuffers buffers;
+  std::vector<FiberCoord> table;
+  YarnParams params{};
+  Camera camera;
+  double radius = 0.0;  // R
+  YarnPreset preset;    // the AO's density field (cotton1 at its own scale)
+};
+constexpr double kAoTubeRadiusPx = 20.0;
+constexpr double kAoTubeRHat = 0.8;
+
+ShadingBakeRequest aoRequest(const YarnPreset& preset, bool ambient, AoMode mode) {
+  Lighting lighting;
+  lighting.lights.clear();
+  if (!ambient) lighting.lights = {DirectionalLight{glm::vec3(0.0f, 0.6f, 1.0f), glm::vec3(3.0f)}};
+  lighting.ambient = glm::vec3(ambient ? 1.0f : 0.0f);
+  AppearanceOptions a = AppearanceOptions::none();
+  a.ao = mode;
+  a.aoSettings = AoSettings::ci();
+  return ShadingBakeRequest{makeShadingParams(lighting), &preset, a};
+}
+
+const AoTube& aoTube(ValidationContext& ctx, double halfWidthW) {
+  return ctx.cached(CacheKey<AoTube>{fmt::format("appearance/ao-tube/{}", halfWidthW)}, [&] {
+    AoTube t;
+    t.preset = findYarnPreset("cotton1");
+    t.radius = kAoTubeRHat * halfWidthW;
+    t.camera.width = 320;
+    t.camera.height = 240;
+    const double depth = t.radius * t.camera.pixelsPerUnitAtDepth1() / kAoTubeRadiusPx;  // R is 20 px wide
+    t.camera.eye = {0.0f, 0.0f, float(depth)};
+    t.camera.target = glm::vec3(0.0f);
+    t.camera.zNear = float(0.01 * depth);
+    t.camera.zFar = float(10.0 * depth);
+    YarnModel model;
+    model.name = "straight core tube";
+    YarnCurve c;
+    const double half = 2.0 * depth;  // past the image's edges
+    for (int i = 0; i <= 16; ++i) c.points.push_back({float(-half + 2.0 * half * i / 16.0), 0.0f, 0.0f});
+    model.curves.push_back(c);
+    t.buffers = buildYarnBuffers(model);
+    YarnParams& p = t.params;
+    p.plyCount = 1;
+    p.fiberCount = 1;
+    p.maxSubdivisions = 4;
+    p.ellipseN = p.ellipseB = 1.0f;
+    p.plyTurnsPerLength = p.fiberTurnsPerLength = 1.0f;
+    p.plyTwistSign = p.fiberTwistSign = 1.0f;
+    p.migrationS = 1.0f;
+    p.rhoMin = p.rhoMax = 1.0f;
+    p.fiberRadius = 0.001f * float(t.radius);
+    p.coreRadius = float(t.radius);  // only the core fiber, on the axis
+    p.boundRadius = p.coreRadius;
+    t.table.assign(1, FiberCoord{0.5f, 0.0f});
+    return t;
+  });
+}
+
+ImageRgbaF renderAoTube(ValidationContext& ctx, const AoTube& t, bool tessellation, const ShadingInputs& in) {
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
+  gpu.setModel(t.buffers, t.table);
+  gpu.setParams(t.params, makeViewParams(t.camera, 1.0f, false, true));
+  gpu.setSegmentList({});
+  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
+  renderer.setShading(in);
+  return renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, t.camera.width,
+                         t.camera.height);
+}
+
+// The cubic a0 + a1 r + a2 r² + a3 r³, clamped to [0, 1] (000 §4.2), in double.
+double aoCubic(glm::vec4 a, double r) {
+  return std::clamp(double(a.x) + r * (double(a.y) + r * (double(a.z) + r * double(a.w))), 0.0, 1.0);
+}
+
+double maxAbsMinus(const std::vector<double>& v, double target) {
+  double worst = 0.0;
+  for (double x : v) worst = maxKeepNaN(worst, std::abs(x - target));
+  return worst;
+}
+
+// Tolerances: the ratio of two float frames whose ambient differs by one
+// float multiplication, and the hit's |x| in float (relative ~1e-6 of R)
+// through a cubic of slope ~1.5: measured ≲ 1e-6; 1e-4 leaves two decades.
+constexpr double kAoFitTolerance = 1e-4;
+constexpr double kAoIdentityTolerance = 1e-6;  // ×1 in float: exact
+// Where two lines of the tube meet, the end ball of one lies inside the
+// other's tube; within the depth buffer's precision of the joint (a quarter
+// pixel facing the camera, more on the grazing silhouette rows) the ball's
+// hit shades, at |x| < R: measured 47 of 12800 pixels (0.37 %, worst
+// −0.010 on the silhouette row), so at most 1 % may be off and none above.
+constexpr double kAoJointFraction = 0.01;
+
+CaseResult runAoFrame(ValidationContext& ctx, bool tessellation) {
+  CaseResult r;
+  r.name = fmt::format("appearance/ao/{}", tessellation ? "tessellation" : "compute");
+  r.group = "appearance";
+  r.path = tessellation ? "tessellation" : "compute";
+  const auto t0 = Clock::now();
+  ShadingBakeGpu& bake = ctx.gpu<ShadingBakeGpu>();
+  const YarnPreset cotton = findYarnPreset("cotton1");
+  const ShadingInputs fit = bake.bake(aoRequest(cotton, true, AoMode::Fit));
+  const ShadingInputs texture = bake.bake(aoRequest(cotton, true, AoMode::Texture));
+  const ShadingInputs off = bake.bake(aoRequest(cotton, true, AoMode::None));
+  const ShadingInputs directFit = bake.bake(aoRequest(cotton, false, AoMode::Fit));
+  const ShadingInputs directOff = bake.bake(aoRequest(cotton, false, AoMode::None));
+  ShadingInputs ones = fit, onesTexture = texture;  // AO ≡ 1
+  for (ShadingInputs* in : {&ones, &onesTexture}) {
+    std::fill(in->aoTexels.begin(), in->aoTexels.end(), 1.0f);
+    in->aoParams.cubic = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+  }
+  const double w = fit.aoParams.halfWidth;
+  const AoTube& t = aoTube(ctx, w);
+  const ImageRgbaF imgOff = renderAoTube(ctx, t, tessellation, off);
+  const ImageRgbaF imgFit = renderAoTube(ctx, t, tessellation, fit);
+  const ImageRgbaF imgTexture = renderAoTube(ctx, t, tessellation, texture);
+  const ImageRgbaF imgOnes = renderAoTube(ctx, t, tessellation, ones);
+  const ImageRgbaF imgOnesTexture = renderAoTube(ctx, t, tessellation, onesTexture);
+  const ImageRgbaF imgDirectOff = renderAoTube(ctx, t, tessellation, directOff);
+  const ImageRgbaF imgDirectFit = renderAoTube(ctx, t, tessellation, directFit);
+  r.gpuMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  r.gpuTiming = "steady_clock: 5 bakes + 7 frames with read-back";
+
+  // Expected: the cubic at r̂ = R/W; the texture within the range of the texels
+  // whose centres lie within √2 texels (1.5 here) of the ring |p| = R.
+  const double rHat = t.radius / w;
+  const double expectedFit = aoCubic(fit.aoParams.cubic, rHat);
+  const int n = int(texture.aoParams.resolution);
+  const double tw = texture.aoParams.halfWidth, texel = 2.0 * tw / n;
+  double lo = 1e30, hi = -1e30;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = -tw + (i + 0.5) * texel, y = -tw + (j + 0.5) * texel;
+      if (std::abs(std::hypot(x, y) - t.radius) > 1.5 * texel) continue;
+      lo = std::min(lo, double(texture.aoTexels[size_t(j) * n + i]));
+      hi = std::max(hi, double(texture.aoTexels[size_t(j) * n + i]));
+    }
+  Ratios fitRatio = ratios(imgFit, imgOff), texRatio = ratios(imgTexture, imgOff), onesRatio = ratios(imgOnes, imgOff),
+         onesTexRatio = ratios(imgOnesTexture, imgOff), directRatio = ratios(imgDirectFit, imgDirectOff);
+  double texOutside = 0.0;
+  for (double v : texRatio.values) texOutside = maxKeepNaN(texOutside, std::max({lo - v, v - hi, 0.0}));
+  const size_t nonFinite =
+      fitRatio.nonFinite + texRatio.nonFinite + onesRatio.nonFinite + onesTexRatio.nonFinite + directRatio.nonFinite;
+  const double fitWorst = maxAbsMinus(fitRatio.values, expectedFit);
+  size_t fitOff = 0;
+  double fitAbove = 0.0;
+  for (double v : fitRatio.values) {
+    fitOff += std::abs(v - expectedFit) > kAoFitTolerance;
+    fitAbove = maxKeepNaN(fitAbove, std::max(v - expectedFit, 0.0));
+  }
+  const double fitOffFraction = fitRatio.values.empty() ? 1.0 : double(fitOff) / double(fitRatio.values.size());
+  const double onesWorst = std::max(maxAbsMinus(onesRatio.values, 1.0), maxAbsMinus(onesTexRatio.values, 1.0));
+  const double directWorst = maxAbsMinus(directRatio.values, 1.0);
+  r.metrics = {
+      Metric{"nonfinite.gpu", double(nonFinite), 0.0, "count", "NaN/Inf are failures"},
+      Metric{"pixels.measured", double(fitRatio.values.size()), 0.0, "count", "fully covered pixels", false},
+      Metric{"fit.median_abs", std::abs(fitRatio.median() - expectedFit), kAoFitTolerance, "ratio",
+             "median of frame(AO fit)/frame(no AO) under ambient light only = the cubic at r̂ = R/W (hits on the tube)"},
+      Metric{"fit.off_fraction", fitOffFraction, kAoJointFraction, "fraction",
+             "pixels off the cubic at R/W by > 1e-4: only where a capsule's end ball (inside the tube) shades"},
+      Metric{"fit.above_max", fitAbove, kAoFitTolerance, "ratio",
+             "no hit lies farther than R from the axis: the ratio never exceeds the cubic at R/W (rising there)"},
+      Metric{"fit.max_abs", fitWorst, 0.0, "ratio", "informational: the worst pixel (a capsule joint)", false},
+      Metric{"texture.outside_range", texOutside, kAoIdentityTolerance, "ratio",
+             "frame(AO texture)/frame(no AO) within the texels around the ring |p| = R (bilinear mix)"},
+      Metric{"identity.max_abs", onesWorst, kAoIdentityTolerance, "ratio",
+             "AO ≡ 1 (texels 1, cubic 1) gives the frame without AO, both modes"},
+      Metric{"direct.max_abs", directWorst, kAoIdentityTolerance, "ratio",
+             "a light without ambient: AO changes nothing (000 Fig. 12d: AO scales the ambient only)"},
+  };
+  if (fitRatio.values.empty() || texRatio.values.empty() || directRatio.values.empty())
+    r.error = "no covered pixel to measure";
+  r.details = fmt::format(
+      "R/W {:.3f}, expected cubic {:.5f}; fit ratio median {:.5f}; texture ratio median {:.5f} in [{:.4f}, {:.4f}]; "
+      "{} pixels ({} off the cubic by > {})",
+      rHat, expectedFit, fitRatio.median(), texRatio.median(), lo, hi, fitRatio.values.size(), fitOff, kAoFitTolerance);
+  r.finish();
+  return r;
+}
+
 }  // namespace
 
 void addAppearanceCases(ValidationContext& /*ctx*/, std::vector<ValidationCase>& out) {
@@ -266,6 +458,9 @@ void addAppearanceCases(ValidationContext& /*ctx*/, std::vector<ValidationCase>&
   for (bool tessellation : {false, true})
     out.push_back({fmt::format("appearance/core-texture/frame/{}", tessellation ? "tessellation" : "compute"),
                    [tessellation](ValidationContext& c) { return runCoreTextureFrame(c, tessellation); }});
+  for (bool tessellation : {false, true})
+    out.push_back({fmt::format("appearance/ao/{}", tessellation ? "tessellation" : "compute"),
+                   [tessellation](ValidationContext& c) { return runAoFrame(c, tessellation); }});
 }
 
 }  // namespace ft

@@ -467,6 +467,26 @@ std::vector<Approximation> fidelityRows() {
           {"core-texture+self-shadow", coreShadow}};
 }
 
+// ---- Ambient occlusion (000 §4.2) in the fidelity table ----
+// Lit by the uniform ambient alone. The direct-mode reference adds the
+// ambient term unoccluded even with shadow rays, so the reference here is the
+// path-traced one (reference/fiber_trace.h, multiple scattering): every
+// escaping path sees the environment, so the fibers occlude it (and light
+// between fibers is carried) — what AO approximates. Depth 8, 4 spp (the
+// GPU's multisample positions): CI size, 1.6–4 s here. "ambient-single" is
+// the same with depth 2 (one scattering, then the continuation escapes to the
+// environment or is lost on the next fiber): the environment seen through
+// the fibers without inter-reflection, which is what AO models.
+constexpr float kAoFidelityAmbient = 1.0f;
+int aoFidelityDepth(const std::string& light) { return light == "ambient-single" ? 2 : 8; }
+std::vector<Approximation> aoFidelityRows() {
+  AppearanceOptions fit = AppearanceOptions::none(), texture = AppearanceOptions::none();
+  fit.ao = AoMode::Fit;
+  texture.ao = AoMode::Texture;
+  fit.aoSettings = texture.aoSettings = AoSettings::ci();
+  return {{"none", AppearanceOptions::none()}, {"ao-fit", fit}, {"ao-texture", texture}};
+}
+
 CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const std::string& light,
                        const Approximation& row, const std::string& name) {
   CaseResult r;
@@ -474,7 +494,13 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   r.group = "shading";
   r.path = "compute";
   GroundTruthInputs& in = groundTruthInputs(ctx);
-  const ShadingParams s = makeShadingParams(caseLighting(fabric, lightDirection(light, in.camera)));
+  const bool ambientOnly = light.rfind("ambient", 0) == 0;  // the AO rows (above)
+  Lighting lighting = caseLighting(fabric, lightDirection(ambientOnly ? "front" : light, in.camera));
+  if (ambientOnly) {
+    lighting.lights.clear();
+    lighting.ambient = glm::vec3(kAoFidelityAmbient);
+  }
+  const ShadingParams s = makeShadingParams(lighting);
   const YarnPreset& preset = shadingPreset(ctx);
   const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
     return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
@@ -496,6 +522,10 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
         o.samplePositions = renderer.samplePositions();
         o.samplesPerPixel = static_cast<int>(o.samplePositions.size());
         o.shadows = true;
+        if (ambientOnly) {  // the environment occluded by the fibers: path traced
+          o.multipleScattering = true;
+          o.maxDepth = aoFidelityDepth(light);
+        }
         return traceFibers(scene, in.camera, s,
                            bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable, o);
       });
@@ -514,6 +544,17 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
                              "informational: HDR-FLIP against the shadowed all-fiber reference, whole frame", false});
   r.metrics.push_back(Metric{"rmse", compareImages(truth.image, img).rmse, 0.0, "radiance",
                              "informational: RMSE of linear radiance against the shadowed all-fiber reference", false});
+  {  // Brightness: mean rgb over the pixels both images cover (is the frame too bright or too dark?).
+    double sumGpu = 0.0, sumTruth = 0.0;
+    for (size_t p = 0; p + 3 < img.pixels.size() && p + 3 < truth.image.pixels.size(); p += 4) {
+      if (img.pixels[p + 3] < 0.5f || truth.image.pixels[p + 3] < 0.5f) continue;
+      sumGpu += double(img.pixels[p]) + img.pixels[p + 1] + img.pixels[p + 2];
+      sumTruth += double(truth.image.pixels[p]) + truth.image.pixels[p + 1] + truth.image.pixels[p + 2];
+    }
+    r.metrics.push_back(Metric{"mean.gpu_over_truth", sumTruth > 0.0 ? sumGpu / sumTruth : std::nan(""), 0.0,
+                               "ratio", "informational: mean radiance of the frame over the reference's, both covered",
+                               false});
+  }
   if (ctx.options().images) {
     r.images.push_back(ctx.saveImage(toRgba(img), name + "-gpu"));
     r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
@@ -741,6 +782,11 @@ void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
   }
   for (const char* light : {"front", "back"})
     for (const Approximation& row : fidelityRows()) {
+      const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
+      out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
+    }
+  for (const char* light : {"ambient", "ambient-single"})
+    for (const Approximation& row : aoFidelityRows()) {
       const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
       out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
     }

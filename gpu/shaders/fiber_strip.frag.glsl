@@ -17,6 +17,7 @@
 //  * 1: the fiber shading of Wu & Yuksel 2019 §4.3 (common/fiber_shading.h):
 //    the shared BCSDF per directional light plus the ambient table, in linear
 //    HDR radiance (a float target), alpha 1 for coverage.
+#include "common/ambient_occlusion.h"
 #include "common/constants.h"
 #include "common/core_texture.h"
 #include "common/fiber_geometry.h"
@@ -37,6 +38,8 @@ layout(std430, binding = FT_SSBO_SELF_SHADOW_TEXTURE) readonly buffer SelfShadow
 layout(std140, binding = FT_UBO_CORE_TEXTURE) uniform CoreTextureBlock { CoreTextureParams coreTexture; };
 layout(std430, binding = FT_SSBO_CORE_TEX0) readonly buffer CoreTex0 { vec4 coreTex0[]; };
 layout(std430, binding = FT_SSBO_CORE_TEX1) readonly buffer CoreTex1 { vec4 coreTex1[]; };
+layout(std140, binding = FT_UBO_AMBIENT_OCCLUSION) uniform AoBlock { AmbientOcclusionParams ao; };
+layout(std430, binding = FT_SSBO_AO_TEXTURE) readonly buffer AoTexture { float aoTexels[]; };
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -220,20 +223,49 @@ bool applyCoreTexture(inout FiberHit h) {
   return true;
 }
 
+// ---- Ambient occlusion (000 §4.2, common/ambient_occlusion.h) ----
+// The yarn's AO at the hit: the cubic at r̂ = |x|/W, x the hit's offset from
+// the *yarn* centre (000: the ply centre would miss the other plies'
+// occlusion), or the 2D texture turned back by the ply-0 angle.
+float aoTexel(uint i, uint j) { return aoTexels[j * ao.resolution + i]; }
+float ambientOcclusion(CrossSection c) {
+  if ((shading.flags.w & FT_APPEARANCE_AO_TEXTURE) != 0u) {
+    AoTexelLookup t = ftAoTextureLookup(ao, c.x, vec2(cos(c.plyAngle), sin(c.plyAngle)));
+    return ftAoBilinear(aoTexel(t.lo.x, t.lo.y), aoTexel(t.hi.x, t.lo.y), aoTexel(t.lo.x, t.hi.y),
+                        aoTexel(t.hi.x, t.hi.y), t.weight);
+  }
+  vec2 x = c.x;
+#ifdef FT_FAULT_FRAME_AO_PLY_CENTRE
+  // r̂ from the nearest ply centre: the other plies' occlusion is lost.
+  float best = 3.0e38;
+  for (uint j = 0u; j < ao.density.plyCount; ++j) {
+    vec2 d = c.x - ao.density.plyRadius * ftPlyDirection(ao.density, j, c.plyAngle);
+    if (dot(d, d) < best) { best = dot(d, d); x = d; }
+  }
+#endif
+  return ftAoCubicAt(ao, length(x) / ao.halfWidth);
+}
+
 vec3 shadeFiber(FiberHit h) {
   vec3 v = normalize(view.cameraPos.xyz - h.position);
   vec3 radiance = vec3(0.0);
   bool selfShadowed = (shading.flags.w & FT_APPEARANCE_SELF_SHADOW) != 0u;
+  bool occluded = (shading.flags.w & (FT_APPEARANCE_AO_FIT | FT_APPEARANCE_AO_TEXTURE)) != 0u;
   CrossSection c;
-  if (selfShadowed) c = crossSection(h);
+  if (selfShadowed || occluded) c = crossSection(h);
+  float ambientVisibility = occluded ? ambientOcclusion(c) : 1.0;
   for (int i = 0; i < int(shading.flags.x) && i < FT_MAX_LIGHTS; ++i) {
     float visibility = selfShadowed ? selfShadowTransmittance(c, shading.lightDirection[i].xyz) : 1.0;
+#ifdef FT_FAULT_FRAME_AO_DIRECT
+    visibility *= ambientVisibility;  // AO on the direct term too (000 Fig. 12d: it scales the ambient only)
+#endif
     radiance += ftFiberDirect(shading, i, h.tangent, h.normal, v) * visibility;
   }
   FiberAngles o = ftFiberAngles(h.tangent, v, v);
   vec3 k = ftAmbientLookup(o.thetaO, FT_AMBIENT_TABLE_SIZE);
   vec3 table = mix(ambientTable[int(k.x)].xyz, ambientTable[int(k.y)].xyz, k.z);
-  return radiance + ftFiberAmbient(shading, table);
+  // 000 §4.2, Fig. 12d: AO scales the ambient term only.
+  return radiance + ftFiberAmbient(shading, table) * ambientVisibility;
 }
 
 void main() {
