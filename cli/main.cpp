@@ -242,6 +242,10 @@ int main(int argc, char** argv) {
                      "self-shadow slices over the ply twist (default 16)");
   render->add_option("--self-shadow-kappa", ro.appearance.selfShadowKappa,
                      "κ of T = exp(-κD) (default 2 r_f, notes §0.3; 0: no self-shadow)");
+  render->add_flag("!--no-shadow-map", ro.appearance.shadowMap,
+                   "without the yarn shadow map of 000 §4.1 (yarns shadowing other yarns)");
+  render->add_option("--shadow-map-size", ro.appearance.shadowMapSize,
+                     "shadow-map texels per side, per light (default 2048)");
   render->add_option("--backend", backend, "GL backend");
   render->add_option("--inject", ro.inject,
                      "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");

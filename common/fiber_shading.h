@@ -36,6 +36,7 @@ inline bool ftFaultShadingCosDropped = false;
 // Bits of ShadingParams.flags.w: the approximations of 000 §4 a frame uses
 // (scene/shading_inputs.h AppearanceOptions).
 #define FT_APPEARANCE_SELF_SHADOW 1u  // 000 §4.1 self-shadow texture (common/self_shadow.h)
+#define FT_APPEARANCE_SHADOW_MAP 256u  // 000 §4.1 yarn shadow map (common/shadow_map.h); high bit: away from the others' next bits
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 

@@ -22,6 +22,10 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
     in.selfShadowTexels = selfShadow_.bakeGrid(in.density, in.selfShadow);  // 000 Fig. 6: grid + prefix sum
     in.params.flags.w |= FT_APPEARANCE_SELF_SHADOW;
   }
+  if (request.appearance.shadowMap) {  // yarn shadow map (000 §4.1): drawn per frame, nothing to bake
+    if (!request.fittedPreset) throw std::invalid_argument("ShadingBakeGpu: the shadow map needs the yarn preset");
+    frameShadowMap(in, makeYarnDensity(*request.fittedPreset), request.appearance);
+  }
   checkShadingInputs(in);
   return in;
 }

@@ -21,6 +21,10 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     in.selfShadowTexels = bakeSelfShadowCpu(in.density, in.selfShadow).texels;
     in.params.flags.w |= FT_APPEARANCE_SELF_SHADOW;
   }
+  if (request.appearance.shadowMap) {  // yarn shadow map (000 §4.1): drawn per frame, nothing to bake
+    if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: the shadow map needs the yarn preset");
+    frameShadowMap(in, makeYarnDensity(*request.fittedPreset), request.appearance);
+  }
   checkShadingInputs(in);
   return in;
 }

@@ -20,6 +20,14 @@ SelfShadowParams frameSelfShadowParams(const YarnDensityParams& density, const A
   return ftSelfShadowParams(density, o.selfShadowSize, o.selfShadowSize, o.selfShadowSlices, kappa);
 }
 
+void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const AppearanceOptions& o) {
+  if (o.shadowMapSize < 16 || o.shadowMapSize > 8192)
+    throw InputError(fmt::format("--shadow-map-size: {} must be in [16, 8192]", o.shadowMapSize));
+  in.density = density;  // the tube radius is its reach W (notes §0.3, A5)
+  in.shadowMapSize = o.shadowMapSize;
+  in.params.flags.w |= FT_APPEARANCE_SHADOW_MAP;
+}
+
 void checkShadingInputs(const ShadingInputs& inputs) {
   if (inputs.ambientTable.size() != FT_AMBIENT_TABLE_SIZE)
     throw std::invalid_argument(fmt::format("shading inputs: ambient table has {} texels, expected {}",
@@ -38,6 +46,13 @@ void checkShadingInputs(const ShadingInputs& inputs) {
     if (!std::isfinite(inputs.selfShadowTexels[k]))
       throw std::invalid_argument(
           fmt::format("shading inputs: self-shadow texel {} is {}", k, inputs.selfShadowTexels[k]));
+  if ((inputs.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) {
+    if (inputs.shadowMapSize < 16 || inputs.shadowMapSize > 8192)
+      throw std::invalid_argument(fmt::format("shading inputs: shadow map size {}", inputs.shadowMapSize));
+    const float w = inputs.density.supportRadius;
+    if (!std::isfinite(w) || w <= 0.0f || !std::isfinite(inputs.density.plyRadius))
+      throw std::invalid_argument(fmt::format("shading inputs: shadow-map tube radius W = {}", w));
+  }
 }
 
 }  // namespace ft

@@ -12,6 +12,7 @@
 
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
+#include "common/shadow_map.h"
 #include "common/yarn_density.h"
 
 namespace ft {
@@ -24,10 +25,15 @@ struct AppearanceOptions {
   uint32_t selfShadowSize = FT_SELF_SHADOW_DEFAULT_SIZE;
   uint32_t selfShadowSlices = FT_SELF_SHADOW_DEFAULT_SLICES;
   float selfShadowKappa = -1.0f;  // κ of T = exp(−κD); negative: the default 2 r_f (notes §0.3)
+  // 000 §4.1 last paragraph: the yarn shadow map (common/shadow_map.h), drawn
+  // per frame by FiberRenderer; N × N texels per light.
+  bool shadowMap = true;
+  uint32_t shadowMapSize = FT_SHADOW_MAP_DEFAULT_SIZE;
 
   static AppearanceOptions none() {
     AppearanceOptions o;
     o.selfShadow = false;
+    o.shadowMap = false;
     return o;
   }
 };
@@ -42,6 +48,10 @@ struct ShadingInputs {
   SelfShadowParams selfShadow{};
   YarnDensityParams density{};
   std::vector<float> selfShadowTexels;
+  // The yarn shadow map (000 §4.1): nothing baked, the renderer draws it per
+  // frame with tubes of radius density.supportRadius (W); on when the bit
+  // FT_APPEARANCE_SHADOW_MAP of params.flags.w is set.
+  uint32_t shadowMapSize = 0;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -56,6 +66,10 @@ struct ShadingBakeRequest {
 // naming the option for a size outside [3, 4096] (slices [1, 4096]) or a κ
 // that is NaN or infinite.
 SelfShadowParams frameSelfShadowParams(const YarnDensityParams& density, const AppearanceOptions& options);
+
+// Sets the shadow-map members of `in` for `options` (size in [16, 8192],
+// InputError naming --shadow-map-size otherwise): one line in each bake.
+void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const AppearanceOptions& options);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

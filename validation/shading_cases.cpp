@@ -456,7 +456,15 @@ struct Approximation {
 std::vector<Approximation> fidelityRows() {
   AppearanceOptions selfShadow = AppearanceOptions::none();
   selfShadow.selfShadow = true;
-  return {{"none", AppearanceOptions::none()}, {"self-shadow", selfShadow}};
+  // The yarn shadow map (000 §4.1 last paragraph) at its default 2048².
+  AppearanceOptions shadowMap = AppearanceOptions::none();
+  shadowMap.shadowMap = true;
+  AppearanceOptions both = selfShadow;
+  both.shadowMap = true;
+  return {{"none", AppearanceOptions::none()},
+          {"self-shadow", selfShadow},
+          {"shadow-map", shadowMap},
+          {"self-shadow+shadow-map", both}};
 }
 
 CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const std::string& light,

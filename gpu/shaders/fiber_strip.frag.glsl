@@ -21,6 +21,7 @@
 #include "common/fiber_geometry.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
+#include "common/shadow_map.h"
 #include "common/view_params.h"
 
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
@@ -33,6 +34,9 @@ layout(std140, binding = FT_UBO_SELF_SHADOW) uniform SelfShadowBlock {
   YarnDensityParams selfShadowDensity;
 };
 layout(std430, binding = FT_SSBO_SELF_SHADOW_TEXTURE) readonly buffer SelfShadowTexture { float selfShadowTexels[]; };
+// Yarn shadow map (000 §4.1 last paragraph): FiberRenderer::drawShadowMap.
+layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMap; };
+layout(std430, binding = FT_SSBO_SHADOW_MAP) readonly buffer ShadowMapTexels { float shadowMapTexels[]; };
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -151,6 +155,14 @@ float selfShadowTransmittance(CrossSection c, vec3 wi) {
   return ftSelfShadowTransmittance(selfShadow, s, density);
 }
 
+// V_map of light i at p (notes A5): nearest texel, the far side stored with its bias.
+float shadowMapVisibility(int i, vec3 p) {
+  vec3 m = ftShadowNdcToMap(ftShadowNdc(shadowMap, ftShadowLightSpace(shadowMap, i, p)));
+  ivec4 t = ftShadowTexel(shadowMap, m);
+  if (t.w < 0) return 1.0;  // outside the map: no yarn there
+  return ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, t.x, t.y)]);
+}
+
 vec3 shadeFiber(FiberHit h) {
   vec3 v = normalize(view.cameraPos.xyz - h.position);
   vec3 radiance = vec3(0.0);
@@ -159,6 +171,7 @@ vec3 shadeFiber(FiberHit h) {
   if (selfShadowed) c = crossSection(h);
   for (int i = 0; i < int(shading.flags.x) && i < FT_MAX_LIGHTS; ++i) {
     float visibility = selfShadowed ? selfShadowTransmittance(c, shading.lightDirection[i].xyz) : 1.0;
+    if ((shading.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) visibility *= shadowMapVisibility(i, h.position);
     radiance += ftFiberDirect(shading, i, h.tangent, h.normal, v) * visibility;
   }
   FiberAngles o = ftFiberAngles(h.tangent, v, v);
