@@ -137,7 +137,7 @@ void FiberRenderer::drawShadowMap(FiberGpu& fibers) {
 
   if (!shadowProgram_)
     shadowProgram_ = Program(buildProgram(
-        {"shaders/shadow_map.vert.glsl", "shaders/shadow_map.geom.glsl", "shaders/shadow_map.frag.glsl"}, defines_));
+        {"shaders/shadow_map.vert.glsl", "shaders/shadow_map.frag.glsl"}, defines_));
   if (!shadowVao_) shadowVao_ = VertexArray::create();
   if (!shadowFbo_) shadowFbo_ = Framebuffer::create();
   if (shadowSize_ != n || shadowLayers_ != layers) {
@@ -167,7 +167,7 @@ void FiberRenderer::drawShadowMap(FiberGpu& fibers) {
     glClear(GL_DEPTH_BUFFER_BIT);
     if (int(i) >= lights) continue;
     glProgramUniform1i(shadowProgram_.id(), lightLoc, GLint(i));
-    glDrawArrays(GL_POINTS, 0, GLsizei(fibers.segmentCount() * FT_SHADOW_MAP_SUBSEGMENTS));
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(fibers.segmentCount() * FT_SHADOW_MAP_SUBSEGMENTS * 6));
   }
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -13,7 +13,7 @@ layout(location = 3) flat in uint capsuleCaps;
 
 float tubeRadius() {
 #ifdef FT_FAULT_SHADOW_MAP_PLY_RADIUS
-  return shadowMap.tube.y;
+  return shadowMap.tube.y;  // the ply's radius (the vertex stage's rectangle shrinks with it)
 #else
   return shadowMap.tube.x;
 #endif
