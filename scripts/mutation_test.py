@@ -263,6 +263,12 @@ def checks_for(rel, args, copy, build):
             harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
             return [tuple(harness)]
         return [tuple(harness), ("units", [os.path.join(tests, "self_shadow_test"), "--gtest_brief=1"], {})]
+    # The yarn shadow map (common/shadow_map.h, its depth pass shaders, its Embree reference): its own cases.
+    if "shadow_map" in os.path.basename(rel):
+        harness[1][4] = "^shadowmap/"
+        if rel.startswith("gpu/shaders/"):
+            harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
+        return [tuple(harness)]
     if rel.startswith("gpu/shaders/"):
         harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
         return [tuple(harness)]
