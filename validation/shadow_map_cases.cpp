@@ -11,7 +11,7 @@
 //  shadowmap/width      (C2) a straight yarn over another: the shadow on the
 //                       lower one's top is 2R/cos θ wide, centred where the
 //                       closed form says, within one texel;
-//  shadowmap/embree     (C5) the harness model, points inside the tubes: the
+//  shadowmap/embree     (C5) the built-in scene, points inside the tubes: the
 //                       map against Embree shadow rays through round curves of
 //                       radius W (reference/shadow_map_reference.h), outside a
 //                       1.5-texel band around shadow edges.
@@ -30,6 +30,7 @@
 #include "gpu/fiber_renderer.h"
 #include "gpu/shading_inputs_gpu.h"
 #include "reference/shadow_map_reference.h"
+#include "scene/default_scene.h"
 #include "scene/lighting.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_preset.h"
@@ -293,8 +294,7 @@ CaseResult runWidth(ValidationContext& ctx) {
   return r;
 }
 
-// C5: the harness model (the built-in scene unless --model), cotton1 fitted
-// to it, two lights. Points: uniform in balls of radius 0.95 W around the
+// C5: the built-in scene, cotton1 fitted to it, two lights, the map fine enough to resolve the tubes (below). Points: uniform in balls of radius 0.95 W around the
 // tube centre lines (where fibers lie). The reference traces Embree shadow
 // rays through round curves of radius W; points whose reference visibility
 // changes within 1.5 texels (across the light or along it) are the edge band
@@ -308,16 +308,36 @@ CaseResult runEmbree(ValidationContext& ctx) {
   r.name = "shadowmap/embree";
   r.group = "shadowmap";
   r.path = "shadowmap";
-  const YarnPreset& base = findYarnPreset("cotton1");
-  const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shadowmap/fitted"}, [&] {
-    return fitFibers(base, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
+  // The built-in scene whatever --model says (notes A5 C5: "a glove.bcc
+  // subset or the built-in scene"): on whole models of tightly packed yarns
+  // the bias shows (docs/shadow-map.md: fiber.bcc 1.96 %, all map-lit /
+  // Embree-shadowed), which this case is not meant to gate.
+  struct Scene {
+    YarnBuffers buffers;
+    FittedFibers fitted;
+  };
+  const Scene& scene = ctx.cached(CacheKey<Scene>{"shadowmap/default-scene"}, [&] {
+    Scene sc;
+    const YarnModel model = makeDefaultScene();
+    sc.buffers = buildYarnBuffers(model);
+    sc.fitted = fitFibers(findYarnPreset("cotton1"), model, ctx.options().fiber);
+    return sc;
   });
+  const FittedFibers& fitted = scene.fitted;
   const float w = static_cast<float>(reachW(fitted.fit.preset));
   const std::vector<glm::vec3> lights = {glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)),
                                          glm::normalize(glm::vec3(-0.6f, 0.3f, 0.75f))};
-  const MapRun map = drawMap(ctx, ctx.buffers(), fitted, fitted.fit.preset, lights, FT_SHADOW_MAP_CI_SIZE);
+  // The map must resolve the tubes for the comparison to mean anything: the
+  // smallest power of two from the CI size up whose texel is ≤ W/4 (256² on
+  // the built-in scene; a whole-model map of fiber.bcc or the glove needs
+  // 2048²), at most 4096².
+  MapRun map = drawMap(ctx, scene.buffers, fitted, fitted.fit.preset, lights, FT_SHADOW_MAP_CI_SIZE);
+  uint32_t size = FT_SHADOW_MAP_CI_SIZE;
+  const double side = double(map.params.extent.z) * FT_SHADOW_MAP_CI_SIZE;
+  while (size < 4096u && side / size > w / 4.0) size *= 2u;
+  if (size != FT_SHADOW_MAP_CI_SIZE) map = drawMap(ctx, scene.buffers, fitted, fitted.fit.preset, lights, size);
   const auto t1 = Clock::now();
-  const ShadowTubes tubes = shadowTubes(ctx.buffers(), w);
+  const ShadowTubes tubes = shadowTubes(scene.buffers, w);
   const ShadowMapReference reference(tubes);
   std::mt19937 rng(99u);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
@@ -363,7 +383,7 @@ CaseResult runEmbree(ValidationContext& ctx) {
     }
   }
   r.gpuMilliseconds = map.milliseconds;
-  r.gpuTiming = "steady_clock: depth pass at 256² + read-back";
+  r.gpuTiming = fmt::format("steady_clock: depth pass at {}² + read-back", size);
   r.cpuMilliseconds = msSince(t1);
   r.metrics = {
       Metric{"nonfinite.gpu", double(map.nonFinite), 0.0, "count", "NaN/Inf are failures"},
@@ -375,9 +395,9 @@ CaseResult runEmbree(ValidationContext& ctx) {
              "informational: compared points the reference shadows", false},
   };
   if (shadowed == 0) r.error = "no compared point is in shadow: the comparison would see nothing";
-  r.details = fmt::format("{} points × {} lights, {} capsules, W {:.4g}, texel {:.4g}: {} compared, {} mismatched, {} in the band. {}",
-                          points.size(), lights.size(), reference.capsuleCount(), w, texel, compared, mismatched, band,
-                          first);
+  r.details = fmt::format("{} points × {} lights, {} capsules, W {:.4g}, map {}², texel {:.4g}: {} compared, {} mismatched, {} in the band. {}",
+                          points.size(), lights.size(), reference.capsuleCount(), w, size, texel, compared, mismatched,
+                          band, first);
   r.finish();
   return r;
 }
