@@ -5,14 +5,22 @@
 //   BM_ShadedCompute/{near,mid,far}       compute passes + indirect strip draw;
 //   BM_ShadedTessellation/{near,mid,far}  one instanced tessellated draw;
 //   BM_PreviewCompute/{near,mid,far}      the same draw with the preview shading,
-//                                         so the BCSDF's own share can be read off.
+//                                         so the BCSDF's own share can be read off;
+//   BM_ShadowPass                         the yarn shadow map's depth pass alone
+//                                         (000 §4.1, FiberRenderer::drawShadowMap:
+//                                         every yarn segment as 8 tube pieces,
+//                                         one light, --shadow-map-size texels per
+//                                         side, default 2048, plus its copy to the
+//                                         frame's SSBO); part of every shaded frame
+//                                         while the shadow map is on.
 // A frame is generation + draw into a kept 4× multisampled float target, no
 // read-back. 000 Table 1's timings (GTX 1080) are in the JSON context, for
 // scale only: a different GPU, and llvmpipe here.
 //
 // Own flags: --model=PATH (default data/yarn-models/glove.bcc), --yarn=NAME
 // (cotton1), --fabric=NAME (cotton), --width=, --height= (1280, 960),
-// --self-shadow=0 (the 000 §4.1 self-shadow texture is on by default).
+// --self-shadow=0 (the 000 §4.1 self-shadow texture is on by default),
+// --shadow-map=0 (the yarn shadow map likewise), --shadow-map-size=N (2048).
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
@@ -76,6 +84,17 @@ void BM_Preview(benchmark::State& state, const ft::ViewParams* view) {
   }
 }
 
+void BM_ShadowPass(benchmark::State& state) {
+  g->renderer->drawShadowMap(*g->gpu);  // warm-up: the program, the depth texture
+  glFinish();
+  for (auto _ : state) {
+    g->timer->begin();
+    g->renderer->drawShadowMap(*g->gpu);
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  state.counters["tube_pieces"] = double(g->gpu->segmentCount() * FT_SHADOW_MAP_SUBSEGMENTS);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -89,6 +108,8 @@ int main(int argc, char** argv) {
     ft::AppearanceOptions appearance;  // every approximation of 000 §4 that is built: what a frame costs
     if (ft::takeFlag(argc, argv, "self-shadow", n)) appearance.selfShadow = n != "0";
     if (ft::takeFlag(argc, argv, "ao", n)) appearance.ao = ft::parseAoMode(n);  // none | fit | texture
+    if (ft::takeFlag(argc, argv, "shadow-map", n)) appearance.shadowMap = n != "0";
+    if (ft::takeFlag(argc, argv, "shadow-map-size", n)) appearance.shadowMapSize = uint32_t(std::max(16, std::atoi(n.c_str())));
     if (ft::takeFlag(argc, argv, "width", n)) setup.width = std::max(16, std::atoi(n.c_str()));
     if (ft::takeFlag(argc, argv, "height", n)) setup.height = std::max(16, std::atoi(n.c_str()));
     setup.model = ft::readBcc(modelPath);
@@ -118,6 +139,7 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("fabric", fabric);
     benchmark::AddCustomContext("self_shadow", appearance.selfShadow ? "on (000 §4.1, 128x128x16)" : "off");
     benchmark::AddCustomContext("ao", fmt::format("{} (000 §4.2, 128x128, GPU marched bake)", ft::aoModeName(appearance.ao)));
+    benchmark::AddCustomContext("shadow_map", appearance.shadowMap ? fmt::format("on (000 §4.1, {0}x{0} per light)", appearance.shadowMapSize) : "off");
     benchmark::AddCustomContext("viewport", fmt::format("{}x{}, 4x MSAA, RGBA32F", setup.width, setup.height));
     // 000 Table 1 (Wu & Yuksel 2019, GTX 1080, 1280×960), ms as close / worst / full view:
     // not comparable hardware, context only.
@@ -138,6 +160,8 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();
     }
+    if (appearance.shadowMap)
+      benchmark::RegisterBenchmark("BM_ShadowPass", BM_ShadowPass)->Unit(benchmark::kMillisecond)->UseManualTime();
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();

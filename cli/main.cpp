@@ -247,6 +247,10 @@ int main(int argc, char** argv) {
   std::string renderAo = "fit";
   render->add_option("--ao", renderAo,
                      "ambient occlusion of 000 §4.2: none, fit (the distance-based cubic, default) or texture");
+  render->add_flag("!--no-shadow-map", ro.appearance.shadowMap,
+                   "without the yarn shadow map of 000 §4.1 (yarns shadowing other yarns)");
+  render->add_option("--shadow-map-size", ro.appearance.shadowMapSize,
+                     "shadow-map texels per side, per light (default 2048)");
   render->add_option("--backend", backend, "GL backend");
   render->add_option("--inject", ro.inject,
                      "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");

@@ -57,6 +57,11 @@
 #define FT_SSBO_CORE_TEX0 33       // vec4[columns·height]: (h, n_u, n_v, 0), row-major
 #define FT_SSBO_CORE_TEX1 34       // vec4[columns·height]: (t_u, t_v, t_w, 0)
 
+// Yarn shadow map (common/shadow_map.h, 000 §4.1; FiberRenderer's depth pass
+// and the frame's lookup): UBO 8 and SSBO 36–39 are this group's.
+#define FT_UBO_SHADOW_MAP 8        // ShadowMapParams
+#define FT_SSBO_SHADOW_MAP 36      // float[lights][N][N]: the stored depth in [0, 1], rows bottom-up
+
 // Shading inputs (scene/shading_inputs.h): everything a shaded frame reads
 // besides the fibers, bound together by gpu/fiber_renderer.cpp. A new
 // precomputed input takes its slot here.

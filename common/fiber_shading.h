@@ -39,6 +39,7 @@ inline bool ftFaultShadingCosDropped = false;
 #define FT_APPEARANCE_CORE_TEXTURE 2u  // 000 §3.2 core-fiber texture on the core strips (common/core_texture.h)
 #define FT_APPEARANCE_AO_FIT 4u       // 000 §4.2 AO, distance-based cubic (common/ambient_occlusion.h)
 #define FT_APPEARANCE_AO_TEXTURE 8u   // 000 §4.2 AO, the rotated 2D texture
+#define FT_APPEARANCE_SHADOW_MAP 16u  // 000 §4.1 yarn shadow map (common/shadow_map.h)
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 

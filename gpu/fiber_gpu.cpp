@@ -103,6 +103,13 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
   replaceBuffer(frameCarry_, yarn.curves.size() * sizeof(glm::vec4));
   curveCount_ = yarn.curves.size();
   segmentCount_ = yarn.segments.size();
+  boundsMin_ = glm::vec3(0.0f);
+  boundsMax_ = glm::vec3(0.0f);
+  for (size_t k = 0; k < yarn.points.size(); ++k) {
+    const glm::vec3 p(yarn.points[k].positionLength);
+    boundsMin_ = k == 0 ? p : glm::min(boundsMin_, p);
+    boundsMax_ = k == 0 ? p : glm::max(boundsMax_, p);
+  }
   knotCount_ = yarn.knotCount;
   inputBytes_ = yarn.byteSize() + fiberTable.size_bytes();
   setSegmentList({});

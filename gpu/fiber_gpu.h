@@ -90,6 +90,13 @@ class FiberGpu {
   // place of the compute path's buffers: the same draw as FiberPath::Compute.
   void drawVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions, GLuint program);
   const YarnParams& params() const { return params_; }
+  // For the yarn shadow map's depth pass (FiberRenderer, common/shadow_map.h):
+  // the model's yarn segments, its control points' bounds, and the yarn
+  // buffers bound at their slots.
+  size_t segmentCount() const { return segmentCount_; }
+  glm::vec3 boundsMin() const { return boundsMin_; }
+  glm::vec3 boundsMax() const { return boundsMax_; }
+  void bindYarn() const { bindCommon(); }
 
  private:
   void decideAndScan();  // passes 1-2: decisions, offsets and totals of the listed segments
@@ -114,6 +121,7 @@ class FiberGpu {
   Buffer points_, curves_, segments_, frames_, table_, list_;
   Buffer frameCarry_;  // per curve: the normal carried between frame chunks, the holonomy
   Buffer decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_;
+  glm::vec3 boundsMin_{0.0f}, boundsMax_{0.0f};
   size_t curveCount_ = 0, segmentCount_ = 0, knotCount_ = 0, listCount_ = 0, inputBytes_ = 0;
   size_t pendingStrips_ = 0, pendingSamples_ = 0, sampleCapacity_ = 0, stripCapacity_ = 0, vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;
   YarnParams params_{};

@@ -102,6 +102,90 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   aoTexels_ = makeBuffer(inputs.aoTexels.size() * sizeof(float), inputs.aoTexels.data());
 }
 
+// ---- Yarn shadow map (000 §4.1 last paragraph; common/shadow_map.h) ----
+
+void FiberRenderer::drawShadowMap(FiberGpu& fibers) {
+  const uint32_t n = inputs_.shadowMapSize;
+  if (!shadingUbo_ || n == 0) throw std::logic_error("FiberRenderer: drawShadowMap() needs shading inputs with the shadow map");
+  const int lights = static_cast<int>(std::min<uint32_t>(inputs_.params.flags.x, FT_SHADOW_MAP_MAX_LIGHTS));
+  const uint32_t layers = static_cast<uint32_t>(std::max(lights, 1));
+  const float w = inputs_.density.supportRadius;
+  // A sphere around the control points' bounds, padded by the tube and by the
+  // Catmull-Rom overshoot (≤ 1/8 of a segment's chord; the pad takes W more):
+  // the square and the depth range then hold every tube for any light.
+  const glm::vec3 lo = fibers.boundsMin(), hi = fibers.boundsMax();
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = 0.5f * glm::length(hi - lo) * 1.05f + 2.0f * w;
+  ShadowMapParams m{};
+  for (int i = 0; i < lights; ++i) {
+    const glm::vec3 z = -glm::normalize(glm::vec3(inputs_.params.lightDirection[i]));  // propagation
+    const glm::vec3 helper = std::abs(z.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const glm::vec3 x = glm::normalize(glm::cross(helper, z));
+    const glm::vec3 y = glm::cross(z, x);
+    m.lightX[i] = glm::vec4(x, -glm::dot(x, centre));
+    m.lightY[i] = glm::vec4(y, -glm::dot(y, centre));
+    m.lightZ[i] = glm::vec4(z, -glm::dot(z, centre));
+  }
+  m.extent = glm::vec4(radius, radius, 2.0f * radius / float(n), float(n));
+  m.tube = glm::vec4(w, inputs_.density.plyRadius, FT_SHADOW_MAP_BIAS_TEXELS, 0.0f);
+  m.count = glm::uvec4(uint32_t(lights), n, 0u, 0u);
+  shadowParams_ = m;
+  if (!shadowUbo_) shadowUbo_ = makeBuffer(sizeof(ShadowMapParams), nullptr);
+  shadowUbo_.update(&m, sizeof(m));
+
+  if (!shadowProgram_)
+    shadowProgram_ = Program(buildProgram(
+        {"shaders/shadow_map.vert.glsl", "shaders/shadow_map.frag.glsl"}, defines_));
+  if (!shadowVao_) shadowVao_ = VertexArray::create();
+  if (!shadowFbo_) shadowFbo_ = Framebuffer::create();
+  if (shadowSize_ != n || shadowLayers_ != layers) {
+    GLuint tex = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &tex);
+    shadowDepth_ = Texture(tex);
+    glTextureStorage3D(tex, 1, GL_DEPTH_COMPONENT32F, GLsizei(n), GLsizei(n), GLsizei(layers));
+    shadowTexels_ = makeBuffer(size_t(n) * n * layers * sizeof(float), nullptr);
+    shadowSize_ = n;
+    shadowLayers_ = layers;
+  }
+  GLint oldViewport[4];
+  glGetIntegerv(GL_VIEWPORT, oldViewport);
+  glNamedFramebufferDrawBuffer(shadowFbo_.id(), GL_NONE);
+  glNamedFramebufferReadBuffer(shadowFbo_.id(), GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, shadowFbo_.id());
+  glViewport(0, 0, GLsizei(n), GLsizei(n));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(shadowProgram_.id());
+  fibers.bindYarn();
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, shadowUbo_.id());
+  glBindVertexArray(shadowVao_.id());
+  const GLint lightLoc = glGetUniformLocation(shadowProgram_.id(), "lightIndex");
+  for (uint32_t i = 0; i < layers; ++i) {
+    glNamedFramebufferTextureLayer(shadowFbo_.id(), GL_DEPTH_ATTACHMENT, shadowDepth_.id(), 0, GLint(i));
+    glClear(GL_DEPTH_BUFFER_BIT);
+    if (int(i) >= lights) continue;
+    glProgramUniform1i(shadowProgram_.id(), lightLoc, GLint(i));
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(fibers.segmentCount() * FT_SHADOW_MAP_SUBSEGMENTS * 6));
+  }
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDisable(GL_DEPTH_TEST);
+  glViewport(oldViewport[0], oldViewport[1], oldViewport[2], oldViewport[3]);
+  // The frame reads the map as an SSBO (a copy on the GPU, no read-back).
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, shadowTexels_.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(shadowDepth_.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                    GLsizei(size_t(n) * n * layers * sizeof(float)), nullptr);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+}
+
+std::vector<float> FiberRenderer::readShadowMap() const {
+  if (!shadowTexels_) throw std::logic_error("FiberRenderer: readShadowMap() before drawShadowMap()");
+  std::vector<float> out(size_t(shadowSize_) * shadowSize_ * shadowLayers_);
+  glGetNamedBufferSubData(shadowTexels_.id(), 0, GLsizeiptr(out.size() * sizeof(float)), out.data());
+  return out;
+}
+
 void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING, shadingUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
@@ -112,11 +196,16 @@ void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX1, coreTex1_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_AMBIENT_OCCLUSION, aoUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AO_TEXTURE, aoTexels_.id());
+  if (shadowTexels_) {  // yarn shadow map (drawShadowMap)
+    glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, shadowUbo_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SHADOW_MAP, shadowTexels_.id());
+  }
 }
 
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height) {
   if (!shadingUbo_) throw std::logic_error("FiberRenderer: setShading() before a shaded frame");
   const GLuint prog = program(fibers, path);
+  if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) drawShadowMap(fibers);
   fibers.prepareDraw(path);
   // 32-bit float: the ground-truth comparison needs more than half's 11 bits.
   if (!shadedTarget_ || shadedTarget_->width != width || shadedTarget_->height != height)

@@ -58,6 +58,17 @@ class FiberRenderer {
   // as the read-back image), as GL reports them (after a draw()).
   std::vector<glm::vec2> samplePositions() const;
 
+  // The yarn shadow map (000 §4.1, common/shadow_map.h): every yarn segment
+  // of `fibers`' model as FT_SHADOW_MAP_SUBSEGMENTS capsules of radius W
+  // (shading().density.supportRadius), the far side stored, one N × N
+  // DEPTH32F layer per light of shading(), orthographic, fitted to the
+  // model's bounds. draw() calls it when FT_APPEARANCE_SHADOW_MAP is set; the
+  // harness and the bench call it directly. Then shadowMapParams() and
+  // readShadowMap() (float[lights][N][N], rows bottom-up) describe the map.
+  void drawShadowMap(FiberGpu& fibers);
+  const ShadowMapParams& shadowMapParams() const { return shadowParams_; }
+  std::vector<float> readShadowMap() const;
+
   // Unshaded RGBA8 previews (harness thumbnails, `render --preview`): the
   // path's own fibers, or an arbitrary vertex stream in canonical strip order
   // (e.g. the CPU reference's) drawn as the compute path draws its buffers.
@@ -75,6 +86,14 @@ class FiberRenderer {
   Buffer shadingUbo_, ambientTable_, selfShadowUbo_, selfShadowTexels_;
   Buffer coreTextureUbo_, coreTex0_, coreTex1_;  // 000 §3.2 core-fiber texture
   Buffer aoUbo_, aoTexels_;  // ambient occlusion (000 §4.2)
+  // Yarn shadow map: depth pass program, target, and the depth copied to an SSBO for the frame.
+  Program shadowProgram_;
+  Texture shadowDepth_;
+  Framebuffer shadowFbo_;
+  VertexArray shadowVao_;
+  Buffer shadowUbo_, shadowTexels_;
+  ShadowMapParams shadowParams_{};
+  uint32_t shadowSize_ = 0, shadowLayers_ = 0;
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
 };

@@ -44,6 +44,10 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     in.aoParams.cubic = glm::vec4(fitAoCubic(std::span<const float>(in.aoTexels), int(in.aoParams.resolution)).coefficients);
     in.params.flags.w |= request.appearance.ao == AoMode::Fit ? FT_APPEARANCE_AO_FIT : FT_APPEARANCE_AO_TEXTURE;
   }
+  if (request.appearance.shadowMap) {  // yarn shadow map (000 §4.1): drawn per frame, nothing to bake
+    if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: the shadow map needs the yarn preset");
+    frameShadowMap(in, makeYarnDensity(*request.fittedPreset), request.appearance);
+  }
   checkShadingInputs(in);
   return in;
 }

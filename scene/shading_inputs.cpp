@@ -36,6 +36,14 @@ const char* aoModeName(AoMode mode) {
   return "?";
 }
 
+void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const AppearanceOptions& o) {
+  if (o.shadowMapSize < 16 || o.shadowMapSize > 8192)
+    throw InputError(fmt::format("--shadow-map-size: {} must be in [16, 8192]", o.shadowMapSize));
+  in.density = density;  // the tube radius is its reach W (notes §0.3, A5)
+  in.shadowMapSize = o.shadowMapSize;
+  in.params.flags.w |= FT_APPEARANCE_SHADOW_MAP;
+}
+
 void checkShadingInputs(const ShadingInputs& inputs) {
   if (inputs.ambientTable.size() != FT_AMBIENT_TABLE_SIZE)
     throw std::invalid_argument(fmt::format("shading inputs: ambient table has {} texels, expected {}",
@@ -80,6 +88,13 @@ void checkShadingInputs(const ShadingInputs& inputs) {
               inputs.aoParams.halfWidth > 0.0f))
     throw std::invalid_argument(fmt::format("shading inputs: AO cubic ({}, {}, {}, {}) or half width {}", c.x, c.y,
                                             c.z, c.w, inputs.aoParams.halfWidth));
+  if ((inputs.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) {
+    if (inputs.shadowMapSize < 16 || inputs.shadowMapSize > 8192)
+      throw std::invalid_argument(fmt::format("shading inputs: shadow map size {}", inputs.shadowMapSize));
+    const float w = inputs.density.supportRadius;
+    if (!std::isfinite(w) || w <= 0.0f || !std::isfinite(inputs.density.plyRadius))
+      throw std::invalid_argument(fmt::format("shading inputs: shadow-map tube radius W = {}", w));
+  }
 }
 
 CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& r, const char* who) {

@@ -15,6 +15,7 @@
 #include "common/core_texture.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
+#include "common/shadow_map.h"
 #include "common/yarn_density.h"
 #include "scene/ambient_occlusion_setup.h"
 #include "scene/core_texture_input.h"
@@ -43,12 +44,17 @@ struct AppearanceOptions {
   // ---- ambient occlusion (000 §4.2; common/ambient_occlusion.h) ----
   AoMode ao = AoMode::Fit;  // 000's results use the distance-based cubic
   AoSettings aoSettings{};  // texture size, directions, κ (0: 2 r_f) of the bake
+  // 000 §4.1 last paragraph: the yarn shadow map (common/shadow_map.h), drawn
+  // per frame by FiberRenderer; N × N texels per light.
+  bool shadowMap = true;
+  uint32_t shadowMapSize = FT_SHADOW_MAP_DEFAULT_SIZE;
 
   static AppearanceOptions none() {
     AppearanceOptions o;
     o.selfShadow = false;
     o.coreTexture = false;
     o.ao = AoMode::None;
+    o.shadowMap = false;
     return o;
   }
 };
@@ -75,6 +81,10 @@ struct ShadingInputs {
   // the frame can be compared with either.
   AmbientOcclusionParams aoParams{};
   std::vector<float> aoTexels;
+  // The yarn shadow map (000 §4.1): nothing baked, the renderer draws it per
+  // frame with tubes of radius density.supportRadius (W); on when the bit
+  // FT_APPEARANCE_SHADOW_MAP of params.flags.w is set.
+  uint32_t shadowMapSize = 0;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -99,6 +109,9 @@ SelfShadowParams frameSelfShadowParams(const YarnDensityParams& density, const A
 // preset has no core fibers. std::invalid_argument naming `who` without the
 // fiber table; InputError (naming the option) for a bad size.
 CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& request, const char* who);
+// Sets the shadow-map members of `in` for `options` (size in [16, 8192],
+// InputError naming --shadow-map-size otherwise): one line in each bake.
+void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const AppearanceOptions& options);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

@@ -17,6 +17,7 @@
 #include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
+#include "common/shadow_map.h"
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
@@ -68,6 +69,7 @@ namespace {
   X(density.epsilon) X(density.beta) X(density.rMax) X(density.normalization) X(density.plyTwistSign) \
   X(density.supportRadius) X(density.pad0) X(cubic) X(resolution) X(directions) X(directionMode) X(seed) \
   X(halfWidth) X(kappa) X(densityResolution) X(marchStep)
+#define FT_SHADOW_MAP_PARAMS_MEMBERS(X) X(lightX) X(lightY) X(lightZ) X(extent) X(tube) X(count)
 // clang-format on
 
 struct Member {
@@ -122,6 +124,8 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(CoreTextureParams, FT_CORE_TEXTURE_PARAMS_MEMBERS, "CoreTextureBlock", "core",
                       FT_UBO_CORE_TEXTURE),
       FT_UNIFORM_CASE(AmbientOcclusionParams, FT_AO_PARAMS_MEMBERS, "AoBlock", "ao", FT_UBO_AMBIENT_OCCLUSION),
+      FT_UNIFORM_CASE(ShadowMapParams, FT_SHADOW_MAP_PARAMS_MEMBERS, "ShadowMapBlock", "shadowMapParams",
+                      FT_UBO_SHADOW_MAP),
   };
 }
 

@@ -10,6 +10,7 @@
 #include "common/core_texture.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
+#include "common/shadow_map.h"
 #include "common/yarn_frame.h"
 
 namespace ft {
@@ -45,6 +46,8 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_CORE_TEXTURE_VIEW_SIGN") ftFaultCoreTextureViewSign = on;
   if (define == "FT_FAULT_AO_HALF_CIRCLE") ftFaultAoHalfCircle = on;
   if (define == "FT_FAULT_AO_LINEAR_VISIBILITY") ftFaultAoLinearVisibility = on;
+  if (define == "FT_FAULT_SHADOW_MAP_FRONT_DEPTH") ftFaultShadowMapFrontDepth = on;
+  if (define == "FT_FAULT_SHADOW_MAP_NO_REMAP") ftFaultShadowMapNoRemap = on;
 }
 
 inline const Fault* findFault(std::string_view name) {

@@ -461,10 +461,21 @@ std::vector<Approximation> fidelityRows() {
   core.coreTexture = true;
   AppearanceOptions coreShadow = selfShadow;
   coreShadow.coreTexture = true;
+  // The yarn shadow map (000 §4.1 last paragraph) at its default 2048².
+  AppearanceOptions shadowMap = AppearanceOptions::none();
+  shadowMap.shadowMap = true;
+  AppearanceOptions both = selfShadow;
+  both.shadowMap = true;
+  // Everything of 000 §3.2 and §4.1 together (AO is judged under ambient light below).
+  AppearanceOptions all = coreShadow;
+  all.shadowMap = true;
   return {{"none", AppearanceOptions::none()},
           {"self-shadow", selfShadow},
           {"core-texture", core},
-          {"core-texture+self-shadow", coreShadow}};
+          {"core-texture+self-shadow", coreShadow},
+          {"shadow-map", shadowMap},
+          {"self-shadow+shadow-map", both},
+          {"core-texture+self-shadow+shadow-map", all}};
 }
 
 // ---- Ambient occlusion (000 §4.2) in the fidelity table ----

@@ -23,6 +23,7 @@
 #include "common/fiber_geometry.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
+#include "common/shadow_map.h"
 #include "common/view_params.h"
 
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
@@ -40,6 +41,9 @@ layout(std430, binding = FT_SSBO_CORE_TEX0) readonly buffer CoreTex0 { vec4 core
 layout(std430, binding = FT_SSBO_CORE_TEX1) readonly buffer CoreTex1 { vec4 coreTex1[]; };
 layout(std140, binding = FT_UBO_AMBIENT_OCCLUSION) uniform AoBlock { AmbientOcclusionParams ao; };
 layout(std430, binding = FT_SSBO_AO_TEXTURE) readonly buffer AoTexture { float aoTexels[]; };
+// Yarn shadow map (000 §4.1 last paragraph): FiberRenderer::drawShadowMap.
+layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMap; };
+layout(std430, binding = FT_SSBO_SHADOW_MAP) readonly buffer ShadowMapTexels { float shadowMapTexels[]; };
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -246,6 +250,14 @@ float ambientOcclusion(CrossSection c) {
   return ftAoCubicAt(ao, length(x) / ao.halfWidth);
 }
 
+// V_map of light i at p (notes A5): nearest texel, the far side stored with its bias.
+float shadowMapVisibility(int i, vec3 p) {
+  vec3 m = ftShadowNdcToMap(ftShadowNdc(shadowMap, ftShadowLightSpace(shadowMap, i, p)));
+  ivec4 t = ftShadowTexel(shadowMap, m);
+  if (t.w < 0) return 1.0;  // outside the map: no yarn there
+  return ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, t.x, t.y)]);
+}
+
 vec3 shadeFiber(FiberHit h) {
   vec3 v = normalize(view.cameraPos.xyz - h.position);
   vec3 radiance = vec3(0.0);
@@ -259,6 +271,7 @@ vec3 shadeFiber(FiberHit h) {
 #ifdef FT_FAULT_FRAME_AO_DIRECT
     visibility *= ambientVisibility;  // AO on the direct term too (000 Fig. 12d: it scales the ambient only)
 #endif
+    if ((shading.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) visibility *= shadowMapVisibility(i, h.position);
     radiance += ftFiberDirect(shading, i, h.tangent, h.normal, v) * visibility;
   }
   FiberAngles o = ftFiberAngles(h.tangent, v, v);

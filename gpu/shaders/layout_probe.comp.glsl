@@ -12,6 +12,7 @@
 #include "common/knit_stitch.h"
 #include "common/core_texture.h"
 #include "common/ambient_occlusion.h"
+#include "common/shadow_map.h"
 
 layout(local_size_x = 1) in;
 
@@ -41,6 +42,7 @@ layout(std140, binding = FT_UBO_CORE_TEXTURE) uniform CoreTextureBlock { CoreTex
 layout(std430, binding = FT_SSBO_CORE_TEX0) buffer CoreCopyBuf { CoreTextureParams coreCopy; };
 layout(std140, binding = FT_UBO_AMBIENT_OCCLUSION) uniform AoBlock { AmbientOcclusionParams ao; };
 layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionParams aoCopy; };
+layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMapParams; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -64,4 +66,6 @@ void main() {
   shadingCopy = shading;
   coreCopy = core;
   aoCopy = ao;
+  // Read, so the block is active (the storage-block limit, 16, leaves no room for a copy).
+  if (shadowMapParams.count.w == 0xFFFFFFFFu) aoCopy.seed = ao.seed;  // the same value either way
 }
