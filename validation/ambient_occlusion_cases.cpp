@@ -545,18 +545,9 @@ CaseResult runMarchLinearCase(ValidationContext& ctx, const std::string& name) {
 }  // namespace
 
 void addAmbientOcclusionCases(ValidationContext& ctx, std::vector<ValidationCase>& out) {
-  for (const YarnPreset* preset : ctx.presets()) {
-    const auto add = [&](const std::string& kind,
-                         CaseResult (*run)(ValidationContext&, const YarnPreset&, const std::string&)) {
-      const std::string name = "ao/" + kind + "/" + preset->name;
-      out.push_back({name, [run, preset, name](ValidationContext& c) { return run(c, *preset, name); }});
-    };
-    add("bake", runBakeCase);
-    add("marched", runMarchedCase);
-    add("symmetry", runSymmetryCase);
-    add("fit", runFitCase);
-    add("lookup", runLookupCase);
-  }
+  addPresetCases(ctx, out, "ao",
+                 {{"bake", runBakeCase}, {"marched", runMarchedCase}, {"symmetry", runSymmetryCase},
+                  {"fit", runFitCase}, {"lookup", runLookupCase}});
   out.push_back({"ao/disk", [](ValidationContext& c) { return runDiskCase(c, "ao/disk"); }});
   out.push_back({"ao/march-linear", [](ValidationContext& c) { return runMarchLinearCase(c, "ao/march-linear"); }});
 }

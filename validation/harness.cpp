@@ -100,6 +100,15 @@ std::string ValidationContext::saveImage(const RgbaImage& image, const std::stri
   return file;
 }
 
+void addPresetCases(ValidationContext& ctx, std::vector<ValidationCase>& out, const std::string& prefix,
+                    std::initializer_list<std::pair<const char*, PresetCaseRun>> kinds) {
+  for (const YarnPreset* preset : ctx.presets())
+    for (const auto& [kind, run] : kinds) {
+      const std::string name = prefix + "/" + kind + "/" + preset->name;
+      out.push_back({name, [run = run, preset, name](ValidationContext& c) { return run(c, *preset, name); }});
+    }
+}
+
 std::regex parseFilter(const std::string& filter) {
   try {
     return std::regex(filter.empty() ? std::string(".*") : filter);

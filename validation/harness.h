@@ -6,6 +6,7 @@
 #pragma once
 #include <filesystem>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -134,6 +135,12 @@ class ValidationContext {
   // GPU objects and results, destroyed before the context (declared after it).
   std::map<std::pair<std::type_index, std::string>, std::unique_ptr<Entry>> cache_;
 };
+
+// One case per yarn preset of the run and per kind: `<prefix>/<kind>/<preset>`,
+// run(ctx, preset, name) — the shape of every suite that checks a bake per preset.
+using PresetCaseRun = CaseResult (*)(ValidationContext&, const YarnPreset&, const std::string&);
+void addPresetCases(ValidationContext& ctx, std::vector<ValidationCase>& out, const std::string& prefix,
+                    std::initializer_list<std::pair<const char*, PresetCaseRun>> kinds);
 
 // Case factories, one per validation/<alg>_cases.cpp (the generated list).
 #define FT_SUITE(Name) void add##Name##Cases(ValidationContext& ctx, std::vector<ValidationCase>& out);

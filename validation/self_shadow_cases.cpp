@@ -486,17 +486,9 @@ CaseResult runAnalyticCase(ValidationContext& ctx, double eN, double eB, const s
 }  // namespace
 
 void addSelfShadowCases(ValidationContext& ctx, std::vector<ValidationCase>& out) {
-  for (const YarnPreset* preset : ctx.presets()) {
-    const auto add = [&](const std::string& kind,
-                         CaseResult (*run)(ValidationContext&, const YarnPreset&, const std::string&)) {
-      const std::string name = "selfshadow/" + kind + "/" + preset->name;
-      out.push_back({name, [run, preset, name](ValidationContext& c) { return run(c, *preset, name); }});
-    };
-    add("exact", runExactCase);
-    add("grid", runGridCase);
-    add("texels", runTexelsCase);
-    add("lookup", runLookupCase);
-  }
+  addPresetCases(ctx, out, "selfshadow",
+                 {{"exact", runExactCase}, {"grid", runGridCase}, {"texels", runTexelsCase},
+                  {"lookup", runLookupCase}});
   out.push_back({"selfshadow/analytic/circle",
                  [](ValidationContext& c) { return runAnalyticCase(c, 0.02, 0.02, "selfshadow/analytic/circle"); }});
   // e_N ≠ e_B: the chord depends on which axis lies along the ply's direction.
