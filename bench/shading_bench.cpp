@@ -13,6 +13,18 @@
 //                                         side, default 2048, plus its copy to the
 //                                         frame's SSBO); part of every shaded frame
 //                                         while the shadow map is on.
+//   BM_ShadedCompute/{frame,closeup}       the views of `render --distance frame`
+//                                         (the whole glove) and `--distance closeup`,
+//                                         with occlusion culling (the default);
+//   BM_ShadedComputeNoCull/{frame,closeup} the same without it (same frame);
+//   BM_Trace16/{frame,closeup}             the Embree ground truth of the same view
+//                                         and fibers (LoD on), 16 spp, direct light
+//                                         with shadow rays, the frame's light and
+//                                         ambient: issue 14's yardstick (a frame
+//                                         ≤ 1/4 of it), measured in the same run.
+// Counters of the culled frames: the phases of one frame timed apart
+// (FrameTimings: shadow map, generation, occluder pass, shaded pass) and the
+// share of pixels an occluder covers.
 // A frame is generation + draw into a kept 4× multisampled float target, no
 // read-back. 000 Table 1's timings (GTX 1080) are in the JSON context, for
 // scale only: a different GPU, and llvmpipe here.
@@ -24,6 +36,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -36,6 +49,9 @@
 #include "gpu/shading_inputs_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/gpu_timer.h"
+#include "reference/fiber_reference.h"
+#include "reference/fiber_trace.h"
+#include "reference/shading_inputs.h"
 #include "scene/bcc_reader.h"
 #include "scene/camera.h"
 #include "scene/input_error.h"
@@ -54,6 +70,11 @@ struct Setup {
   ft::YarnBuffers buffers;
   ft::FittedFibers fibers;
   std::vector<std::pair<std::string, ft::ViewParams>> views;
+  // The named views of `render` with their cameras, for the frame and its trace.
+  std::vector<std::pair<std::string, ft::Camera>> namedViews;
+  std::vector<ft::ViewParams> namedViewParams;
+  ft::ShadingParams shading{};
+  std::vector<ft::FrameNormal> frames;
   std::unique_ptr<ft::GlContext> gl;
   std::unique_ptr<ft::FiberGpu> gpu;
   std::unique_ptr<ft::FiberRenderer> renderer;
@@ -71,6 +92,52 @@ void BM_Shaded(benchmark::State& state, ft::FiberPath path, const ft::ViewParams
     state.SetIterationTime(g->timer->endMs() * 1e-3);
   }
   if (path == ft::FiberPath::Compute) state.counters["vertices"] = g->gpu->readDrawCommand().vertexTotal;
+}
+
+// A culled or unculled compute-path frame of a named view; culled frames also
+// report their phases (one more frame, each phase finished and timed).
+void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, bool cull) {
+  g->gpu->setParams(g->fibers.params, *view);
+  g->renderer->setOcclusionCull(cull);
+  g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);  // warm-up
+  glFinish();
+  for (auto _ : state) {
+    g->timer->begin();
+    g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  if (cull) {
+    ft::FrameTimings t;
+    g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height, &t);
+    state.counters["shadow_map_ms"] = t.shadowMapMs;
+    state.counters["generate_ms"] = t.generateMs;
+    state.counters["occluder_pass_ms"] = t.depthMs;
+    state.counters["shaded_pass_ms"] = t.shadeMs;
+    state.counters["occluded_fraction"] = g->renderer->occludedFraction();
+  }
+  g->renderer->setOcclusionCull(true);
+}
+
+// The Embree trace of a named view: the CPU reference's fibers at that view
+// (LoD and culling on, as drawn), 16 spp, shadow rays, the frame's shading.
+void BM_Trace16(benchmark::State& state, const ft::Camera* camera) {
+  const ft::FiberInput input{&g->buffers, &g->fibers.table, g->fibers.params, ft::makeViewParams(*camera, 1.0f, true, true)};
+  const ft::FiberTraceScene scene(ft::generateFibersCpu(input, g->frames), g->fibers.params);
+  const std::vector<glm::vec3> table =
+      ft::bakeShadingInputsCpu({g->shading, nullptr, ft::AppearanceOptions::none()}).ambientTable;
+  ft::TraceOptions o;
+  o.samplesPerPixel = 16;
+  o.shadows = true;
+  size_t nonFinite = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const ft::TraceResult r = ft::traceFibers(scene, *camera, g->shading, table, o);
+    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    nonFinite += r.stats.nonFinite;
+    benchmark::DoNotOptimize(r.image.pixels.data());
+  }
+  state.counters["segments"] = double(scene.segmentCount());
+  if (nonFinite > 0) state.SkipWithError(fmt::format("{} non-finite samples", nonFinite).c_str());
 }
 
 void BM_Preview(benchmark::State& state, const ft::ViewParams* view) {
@@ -118,6 +185,12 @@ int main(int argc, char** argv) {
     ft::Lighting lighting;
     lighting.fabric = fabric;
     const ft::ShadingParams shading = ft::makeShadingParams(lighting);
+    setup.shading = shading;
+    setup.frames = ft::computeKnotFramesCpu(setup.buffers);
+    for (const char* name : {"frame", "closeup"})
+      setup.namedViews.emplace_back(name, ft::namedViewCamera(name, setup.model, setup.fibers.params,
+                                                              {0.3f, 0.5f, 1.0f}, setup.width, setup.height));
+    for (const auto& [name, cam] : setup.namedViews) setup.namedViewParams.push_back(ft::makeViewParams(cam, 1.0f, true, true));
     for (ft::LodDistance d : {ft::LodDistance::Near, ft::LodDistance::Mid, ft::LodDistance::Far}) {
       const ft::Camera cam = ft::lodCamera(setup.model, setup.fibers.params, d, 1.0f, setup.width, setup.height);
       setup.views.emplace_back(ft::lodDistanceName(d), ft::makeViewParams(cam, 1.0f, true, true));
@@ -157,6 +230,17 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();
       benchmark::RegisterBenchmark(fmt::format("BM_PreviewCompute/{}", name).c_str(), BM_Preview, &view)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
+    }
+    for (size_t i = 0; i < setup.namedViews.size(); ++i) {
+      const std::string& name = setup.namedViews[i].first;
+      for (bool cull : {true, false})
+        benchmark::RegisterBenchmark(fmt::format("BM_ShadedCompute{}/{}", cull ? "" : "NoCull", name).c_str(),
+                                     BM_NamedFrame, &setup.namedViewParams[i], cull)
+            ->Unit(benchmark::kMillisecond)
+            ->UseManualTime();
+      benchmark::RegisterBenchmark(fmt::format("BM_Trace16/{}", name).c_str(), BM_Trace16, &setup.namedViews[i].second)
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();
     }

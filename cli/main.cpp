@@ -234,6 +234,10 @@ int main(int argc, char** argv) {
   addViewOptions(render, ro.view, renderText);
   render->add_option("--path", ro.path, "compute or tessellation")->capture_default_str();
   render->add_flag("--preview", ro.preview, "the harness thumbnails' preview style instead of the BCSDF (PNG only)");
+  render->add_flag("!--no-occlusion-cull", ro.occlusionCull,
+                   "shade every fragment: without the occluder pass that skips hidden lines (the frame is the same)");
+  render->add_flag("--profile", ro.profile,
+                   "time the bakes and each phase of the frame (glFinish after each), cold and then warm (drawn twice)");
   render->add_flag("!--no-self-shadow", ro.appearance.selfShadow,
                    "without the self-shadow texture of 000 §4.1 (light through the yarn's own fibers)");
   render->add_option("--self-shadow-size", ro.appearance.selfShadowSize,

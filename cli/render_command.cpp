@@ -106,13 +106,24 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
     return 0;
   }
   renderer.setShading(ShadingBakeGpu(g, defines).bake({v.shading, &v.fibers.fit.preset, o.appearance, &v.fibers.params, &v.fibers.table}));
-  const ImageRgbaF img = renderer.render(gpu, path, w, h);
+  const double bakeSeconds = secondsSince(t0);
+  renderer.setOcclusionCull(o.occlusionCull);
+  FrameTimings cold, warm;
+  renderer.draw(gpu, path, w, h, o.profile ? &cold : nullptr);
+  if (o.profile) renderer.draw(gpu, path, w, h, &warm);  // the same frame again, everything built
+  const ImageRgbaF img = renderer.read();
   const double seconds = secondsSince(t0);
   if (const size_t bad = nonFiniteValues(img))
     throw std::runtime_error(fmt::format("the {} path produced {} non-finite pixel values; no image written", o.path, bad));
   const auto files = writeImage(o.view, img);
   log << fmt::format("{}: {} yarn curves, {} segments, {} path, {:.0f} ms on {}\n", files.front().string(),
                      v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * seconds, g.renderer);
+  if (o.profile) {
+    log << fmt::format("  bakes (shading inputs): {:.0f} ms\n", 1e3 * bakeSeconds);
+    for (const auto& [name, t] : {std::pair<const char*, const FrameTimings&>{"cold frame", cold}, {"warm frame", warm}})
+      log << fmt::format("  {}: {:.0f} ms = shadow map {:.0f} + generation {:.0f} + depth pass {:.0f} + shaded pass {:.0f}\n",
+                         name, t.totalMs(), t.shadowMapMs, t.generateMs, t.depthMs, t.shadeMs);
+  }
   return 0;
 }
 

@@ -40,6 +40,8 @@ struct RenderCommandOptions {
   ViewOptions view;
   std::string path = "compute";                // compute or tessellation
   bool preview = false;                        // the harness thumbnails' preview style (RGBA8 PNG)
+  bool profile = false;
+  bool occlusionCull = true;                   // exact occlusion culling (common/occlusion_cull.h)                        // time the bakes and the frame's phases, cold and warm
   AppearanceOptions appearance;                // 000 §4's approximations (--no-self-shadow, ...)
   GlBackend backend = GlBackend::Auto;
   std::string inject;                          // planted fault (faults.def)

@@ -62,6 +62,13 @@
 #define FT_UBO_SHADOW_MAP 8        // ShadowMapParams
 #define FT_SSBO_SHADOW_MAP 36      // float[lights][N][N]: the stored depth in [0, 1], rows bottom-up
 
+// Occlusion culling of the shaded frame (common/occlusion_cull.h,
+// FiberRenderer::draw): the occluder pass's depth, its max-depth pyramid.
+#define FT_UBO_OCCLUSION 9         // OcclusionPyramid
+#define FT_SSBO_OCCLUSION 37       // float[ftOcclusionTexelCount]: max window depth per texel, all levels
+#define FT_TEX_OCCLUDER_DEPTH 0    // sampler2DMS: the occluder pass's depth (pyramid level 0 reads it)
+#define FT_WG_OCCLUSION 8          // 8 × 8 texels per work group
+
 // Shading inputs (scene/shading_inputs.h): everything a shaded frame reads
 // besides the fibers, bound together by gpu/fiber_renderer.cpp. A new
 // precomputed input takes its slot here.

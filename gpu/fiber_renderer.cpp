@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 
 #include "common/constants.h"
@@ -66,14 +67,15 @@ FiberRenderer::FiberRenderer(const GlInfo&, std::vector<std::string> defines) : 
 
 FiberRenderer::~FiberRenderer() = default;
 
-GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path) {
-  Program& p = programs_[path == FiberPath::Compute ? 0 : 1];
+GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, bool occluder) {
+  Program& p = programs_[path == FiberPath::Compute ? 0 : 1][occluder ? 1 : 0];
   if (!p) {
     FiberDrawStages stages = fibers.drawStages(path);
     stages.files.push_back("shaders/fiber_strip.geom.glsl");
     stages.files.push_back("shaders/fiber_strip.frag.glsl");
     std::vector<std::string> defines = defines_;
     defines.insert(defines.end(), stages.defines.begin(), stages.defines.end());
+    if (occluder) defines.push_back("FT_OCCLUDER_PASS");
     p = Program(buildProgram(stages.files, defines));
   }
   return p.id();
@@ -202,11 +204,94 @@ void FiberRenderer::bindShading() const {
   }
 }
 
-void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height) {
+// ---- Occlusion culling (common/occlusion_cull.h) ----
+
+void FiberRenderer::bindOcclusion(bool enabled) {
+  if (!occlusionUbo_) occlusionUbo_ = makeBuffer(sizeof(OcclusionPyramid), nullptr);
+  if (!occlusionTexels_) occlusionTexels_ = makeBuffer(16, nullptr);
+  OcclusionPyramid p = pyramid_;
+  p.size.w = enabled ? 1u : 0u;
+  occlusionUbo_.update(&p, sizeof(p));
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_OCCLUSION, occlusionUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_OCCLUSION, occlusionTexels_.id());
+}
+
+void FiberRenderer::drawOccluders(FiberGpu& fibers, FiberPath path, int width, int height) {
+  if (occluderWidth_ != width || occluderHeight_ != height) {
+    GLuint tex = 0;
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
+    occluderDepth_ = Texture(tex);
+    glTextureStorage2DMultisample(tex, 4, GL_DEPTH_COMPONENT32F, width, height, GL_TRUE);  // the shaded target's samples
+    occluderFbo_ = Framebuffer::create();
+    glNamedFramebufferTexture(occluderFbo_.id(), GL_DEPTH_ATTACHMENT, tex, 0);
+    glNamedFramebufferDrawBuffer(occluderFbo_.id(), GL_NONE);
+    glNamedFramebufferReadBuffer(occluderFbo_.id(), GL_NONE);
+    pyramid_ = ftOcclusionPyramidLayout(uint32_t(width), uint32_t(height));
+    occlusionTexels_ = makeBuffer(size_t(ftOcclusionTexelCount(pyramid_)) * sizeof(float), nullptr);
+    occluderWidth_ = width;
+    occluderHeight_ = height;
+  }
+  bindOcclusion(false);
+  const GLuint prog = program(fibers, path, true);
+  glBindFramebuffer(GL_FRAMEBUFFER, occluderFbo_.id());
+  glViewport(0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  bindShading();  // the core-fiber texture's holes are not occluders
+  setUniform(prog, "shaded", 1u);
+  fibers.draw(path, prog);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDisable(GL_DEPTH_TEST);
+
+  if (!pyramidProgram_) pyramidProgram_ = Program(buildProgram({"shaders/occlusion_pyramid.comp.glsl"}, defines_));
+  const GLuint pp = pyramidProgram_.id();
+  glUseProgram(pp);
+  glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, occluderDepth_.id());
+  setUniform(pp, "samples", 4u);
+  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  for (uint32_t k = 0; k < pyramid_.size.z; ++k) {
+    setUniform(pp, "level", k);
+    glDispatchCompute((pyramid_.level[k].y + FT_WG_OCCLUSION - 1) / FT_WG_OCCLUSION,
+                      (pyramid_.level[k].z + FT_WG_OCCLUSION - 1) / FT_WG_OCCLUSION, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, 0);
+  bindOcclusion(true);
+}
+
+double FiberRenderer::occludedFraction() const {
+  if (occluderWidth_ == 0) return 0.0;
+  std::vector<float> level0(size_t(occluderWidth_) * occluderHeight_);
+  glGetNamedBufferSubData(occlusionTexels_.id(), 0, GLsizeiptr(level0.size() * sizeof(float)), level0.data());
+  size_t occluded = 0;
+  for (float d : level0) occluded += d < 1.0f;
+  return double(occluded) / double(level0.size());
+}
+
+void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height, FrameTimings* timings) {
   if (!shadingUbo_) throw std::logic_error("FiberRenderer: setShading() before a shaded frame");
+  auto t = std::chrono::steady_clock::now();
+  // Ends a phase: with `timings`, finishes it and adds its time to `ms`.
+  auto phase = [&](double& ms) {
+    if (!timings) return;
+    glFinish();
+    const auto now = std::chrono::steady_clock::now();
+    ms += std::chrono::duration<double, std::milli>(now - t).count();
+    t = now;
+  };
+  if (timings) *timings = FrameTimings{};
+  double building = 0;
   const GLuint prog = program(fibers, path);
+  phase(building);  // a program's first build is not a phase of the frame
   if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) drawShadowMap(fibers);
+  if (timings) phase(timings->shadowMapMs);
   fibers.prepareDraw(path);
+  if (timings) phase(timings->generateMs);
+  if (occlusionCull_) drawOccluders(fibers, path, width, height);
+  else bindOcclusion(false);
+  if (timings) phase(timings->depthMs);
   // 32-bit float: the ground-truth comparison needs more than half's 11 bits.
   if (!shadedTarget_ || shadedTarget_->width != width || shadedTarget_->height != height)
     shadedTarget_ = std::make_unique<MultisampleTarget>(width, height, GL_RGBA32F);
@@ -215,6 +300,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   setUniform(prog, "shaded", 1u);
   fibers.draw(path, prog);
   shadedTarget_->finish();
+  if (timings) phase(timings->shadeMs);
 }
 
 ImageRgbaF FiberRenderer::read() const {
@@ -259,6 +345,7 @@ void setPreviewUniforms(GLuint prog, const RenderStyle& style) {
 RgbaImage FiberRenderer::preview(FiberGpu& fibers, FiberPath path, int width, int height, const RenderStyle& style) {
   const GLuint prog = program(fibers, path);
   fibers.prepareDraw(path);
+  bindOcclusion(false);
   const MultisampleTarget target(width, height, GL_RGBA8);
   target.begin(glm::vec4(style.background, 1.0f));
   setPreviewUniforms(prog, style);
@@ -271,6 +358,7 @@ RgbaImage FiberRenderer::previewVertices(FiberGpu& fibers, std::span<const Fiber
                                          std::span<const SegmentDecision> decisions, int width, int height,
                                          const RenderStyle& style) {
   const GLuint prog = program(fibers, FiberPath::Compute);
+  bindOcclusion(false);
   const MultisampleTarget target(width, height, GL_RGBA8);
   target.begin(glm::vec4(style.background, 1.0f));
   setPreviewUniforms(prog, style);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/fiber_vertex.h"
+#include "common/occlusion_cull.h"
 #include "gpu/fiber_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_objects.h"
@@ -35,6 +36,17 @@ struct RenderStyle {
   glm::vec3 lightDir{0.3f, 0.8f, 0.5f};
 };
 
+// Where a shaded frame's time goes (draw(..., &timings)): each phase ends with
+// glFinish and is timed on the CPU's steady clock (llvmpipe's timer queries
+// are CPU timestamps anyway, docs/llvmpipe-notes.md).
+struct FrameTimings {
+  double shadowMapMs = 0;   // the yarn shadow map's depth pass and copy (0 when off)
+  double generateMs = 0;    // fiber generation (compute path; the tessellation path generates while drawing)
+  double depthMs = 0;       // the depth pre-pass (capsule coverage and depth only)
+  double shadeMs = 0;       // the shaded pass over the visible capsules
+  double totalMs() const { return shadowMapMs + generateMs + depthMs + shadeMs; }
+};
+
 class FiberRenderer {
  public:
   // `defines` are injected into every shader (fault injection); they must be
@@ -51,7 +63,16 @@ class FiberRenderer {
   const ShadingInputs& shading() const { return inputs_; }
   // One shaded frame into the kept float target, without the read-back: what
   // a frame costs (the benches time this); read() then returns it.
-  void draw(FiberGpu& fibers, FiberPath path, int width, int height);
+  // With `timings`, each phase is finished and timed (slower: no overlap).
+  void draw(FiberGpu& fibers, FiberPath path, int width, int height, FrameTimings* timings = nullptr);
+  // Exact occlusion culling of shaded frames (common/occlusion_cull.h), on by
+  // default: an occluder pass and its depth pyramid let hidden lines and
+  // fragments skip the shading. The frame is the same either way.
+  void setOcclusionCull(bool on) { occlusionCull_ = on; }
+  bool occlusionCull() const { return occlusionCull_; }
+  // The share of the last culled frame's pixels that an occluder covers at
+  // every sample (pyramid level 0 below the far plane); 0 before one.
+  double occludedFraction() const;
   ImageRgbaF read() const;
   ImageRgbaF render(FiberGpu& fibers, FiberPath path, int width, int height);
   // The shaded target's multisample positions in the pixel ([0, 1]², y down
@@ -78,11 +99,24 @@ class FiberRenderer {
                             const RenderStyle& style = {});
 
  private:
-  GLuint program(const FiberGpu& fibers, FiberPath path);  // built on first use per path
+  // Built on first use per path; `occluder`: the occluder pass's program.
+  GLuint program(const FiberGpu& fibers, FiberPath path, bool occluder = false);
   void bindShading() const;
+  // The occluder pass and its depth pyramid into occlusionTexels_; binds the
+  // pyramid for the shaded pass.
+  void drawOccluders(FiberGpu& fibers, FiberPath path, int width, int height);
+  void bindOcclusion(bool enabled);
 
   std::vector<std::string> defines_;
-  Program programs_[2];
+  Program programs_[2][2];  // [path][occluder pass]
+  // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
+  bool occlusionCull_ = true;
+  Program pyramidProgram_;
+  Texture occluderDepth_;
+  Framebuffer occluderFbo_;
+  int occluderWidth_ = 0, occluderHeight_ = 0;
+  Buffer occlusionUbo_, occlusionTexels_;
+  OcclusionPyramid pyramid_{};
   Buffer shadingUbo_, ambientTable_, selfShadowUbo_, selfShadowTexels_;
   Buffer coreTextureUbo_, coreTex0_, coreTex1_;  // 000 §3.2 core-fiber texture
   Buffer aoUbo_, aoTexels_;  // ambient occlusion (000 §4.2)

@@ -17,6 +17,7 @@
 #include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
+#include "common/occlusion_cull.h"
 #include "common/shadow_map.h"
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
@@ -70,6 +71,7 @@ namespace {
   X(density.supportRadius) X(density.pad0) X(cubic) X(resolution) X(directions) X(directionMode) X(seed) \
   X(halfWidth) X(kappa) X(densityResolution) X(marchStep)
 #define FT_SHADOW_MAP_PARAMS_MEMBERS(X) X(lightX) X(lightY) X(lightZ) X(extent) X(tube) X(count)
+#define FT_OCCLUSION_PYRAMID_MEMBERS(X) X(size) X(level)
 // clang-format on
 
 struct Member {
@@ -126,6 +128,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(AmbientOcclusionParams, FT_AO_PARAMS_MEMBERS, "AoBlock", "ao", FT_UBO_AMBIENT_OCCLUSION),
       FT_UNIFORM_CASE(ShadowMapParams, FT_SHADOW_MAP_PARAMS_MEMBERS, "ShadowMapBlock", "shadowMapParams",
                       FT_UBO_SHADOW_MAP),
+      FT_UNIFORM_CASE(OcclusionPyramid, FT_OCCLUSION_PYRAMID_MEMBERS, "OcclusionBlock", "pyramid", FT_UBO_OCCLUSION),
   };
 }
 

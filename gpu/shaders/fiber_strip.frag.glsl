@@ -22,6 +22,7 @@
 #include "common/core_texture.h"
 #include "common/fiber_geometry.h"
 #include "common/fiber_shading.h"
+#include "common/occlusion_cull.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/view_params.h"
@@ -58,11 +59,24 @@ layout(location = 13) flat in vec3 lineYarnN1;
 layout(location = 14) flat in vec3 lineYarnB0;
 layout(location = 15) flat in vec3 lineYarnB1;
 layout(location = 16) flat in uint lineCurve;
+layout(location = 17) flat in float lineNearestDepth;
+// Occlusion culling (common/occlusion_cull.h): level 0 of the occluders' depth pyramid.
+layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
+layout(std430, binding = FT_SSBO_OCCLUSION) readonly buffer OcclusionTexels { float occlusionTexels[]; };
 layout(location = 0) out vec4 color;
 
 uniform uint shaded;
 uniform vec3 lightDir;
 uniform vec3 baseColor;
+
+// The occluder pass (common/occlusion_cull.h) tests a capsule 5 % thinner:
+// where its centre ray hits, so does the shaded pass's, whatever the float
+// rounding of the other ray origin there.
+#ifdef FT_OCCLUDER_PASS
+#define FT_COVERAGE_SCALE 0.95
+#else
+#define FT_COVERAGE_SCALE 1.0
+#endif
 
 struct FiberHit {
   vec3 position;
@@ -90,7 +104,7 @@ bool castCapsule(vec3 o, out FiberHit h) {
   float qa = dot(dp, dp);
   if (qa > 1e-12) {
     float uClosest = clamp(dot(m - dot(mp, dp) / qa * d, axis) / len2, 0.0, 1.0);
-    float r = mix(lineHalfWidth.x, lineHalfWidth.y, uClosest);
+    float r = FT_COVERAGE_SCALE * mix(lineHalfWidth.x, lineHalfWidth.y, uClosest);
     float qb = dot(dp, mp), qc = dot(mp, mp) - r * r;
     float disc = qb * qb - qa * qc;
     if (disc >= 0.0) {
@@ -101,7 +115,7 @@ bool castCapsule(vec3 o, out FiberHit h) {
   }
   for (int i = 0; i < 2; ++i) {
     vec3 oc = o - (i == 0 ? lineP0 : lineP1);
-    float w = i == 0 ? lineHalfWidth.x : lineHalfWidth.y;
+    float w = FT_COVERAGE_SCALE * (i == 0 ? lineHalfWidth.x : lineHalfWidth.y);
     float b = dot(oc, d), disc = b * b - (dot(oc, oc) - w * w);
     if (disc < 0.0) continue;
     float s = -b - sqrt(disc);
@@ -217,6 +231,16 @@ bool applyCoreTexture(inout FiberHit h) {
   uint ni = l.w.x < 0.5 ? l.i.x : l.i.y, nj = l.w.y < 0.5 ? l.j.x : l.j.y;
 #ifndef FT_FAULT_FRAME_CORE_HOLES_DRAWN
   if (coreTexel0(ni, nj).x <= 0.0) return false;  // a hole: what lies behind shows through
+#ifdef FT_OCCLUDER_PASS
+  // An occluder only where the texels around the nearest are solid too: the
+  // shaded pass's hit, from another ray origin, may round to a neighbour.
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      uint i = (ni + coreTexture.width + uint(di + 1) - 1u) % coreTexture.width;
+      uint j = uint(clamp(int(nj) + dj, 0, int(coreTexture.height) - 1));
+      if (coreTexel0(i, j).x <= 0.0) return false;
+    }
+#endif
 #endif
   vec4 t0 = coreLerp0(l), t1 = coreLerp1(l);
   vec3 n = ftCoreTexelNormal(t0);  // (n_x toward the viewer, n_y, n_z) in the bake frame
@@ -282,6 +306,22 @@ vec3 shadeFiber(FiberHit h) {
 }
 
 void main() {
+#ifdef FT_OCCLUDER_PASS
+  // The occluder pass (common/occlusion_cull.h): the rasterised depth of the
+  // occluder rectangle stands (the capsule surely covers it), except where a
+  // core strip's texture may have a hole for the shaded pass.
+  if (stripType != FT_FIBER_CORE || (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) == 0u) return;
+  {
+    FiberHit hc;
+    if (!castCapsule(stripWorld, hc) || !applyCoreTexture(hc)) discard;
+    return;
+  }
+#endif
+  // Behind the occluders at every sample of this pixel: the depth test would
+  // reject it, so skip the ray casts and the shading.
+  if (pyramid.size.w != 0u &&
+      lineNearestDepth > occlusionTexels[ftOcclusionIndex(pyramid, 0u, uint(gl_FragCoord.x), uint(gl_FragCoord.y))])
+    discard;
   // Coverage: the capsule tested at each multisample position (the rectangle
   // point there lies on that sample's eye ray), so a fiber thinner than a
   // pixel keeps the 4× coverage a plain strip had. Shading: once, at the
@@ -299,7 +339,7 @@ void main() {
   float axisDistance = dot(c, c) > 0.0 ? abs(dot(m, c)) * inversesqrt(dot(c, c)) : 3.0e38;
   float footprint = 0.75 * distance(eye, stripWorld) / view.cameraPos.w;
   bool deepInside = shadeHit && u > 0.0 && u < 1.0 &&
-                    axisDistance + footprint < min(lineHalfWidth.x, lineHalfWidth.y);
+                    axisDistance + footprint < FT_COVERAGE_SCALE * min(lineHalfWidth.x, lineHalfWidth.y);
   int mask = deepInside ? (1 << gl_NumSamples) - 1 : 0;
   for (int i = 0; i < gl_NumSamples && !deepInside; ++i) {
     FiberHit hs;
@@ -316,6 +356,10 @@ void main() {
       !applyCoreTexture(h))
     discard;
   gl_SampleMask[0] = mask;
+#ifndef FT_OCCLUDER_PASS
+  // (The occluder pass, common/occlusion_cull.h, ends here: the rasterised
+  // depth of its pushed-back rectangle stands at the samples the capsule
+  // covers, less the core texture's holes, found as the shaded pass finds them.)
   if (shaded != 0u) {
     color = vec4(shadeFiber(h), 1.0);
 #ifdef FT_FAULT_SHADE_HAIR_BLACK
@@ -333,4 +377,5 @@ void main() {
   }
   vec4 clip = view.viewProj * vec4(h.position, 1.0);
   gl_FragDepth = clamp(0.5 * (clip.z / clip.w) + 0.5, 0.0, 1.0);
+#endif
 }

@@ -8,12 +8,21 @@
 // becomes a square around its end ball, not a degenerate sliver; consecutive
 // lines share their end balls, so a fiber has no cracks at its vertices.
 // Indifferent to fiber type: only the width differs.
+//
+// Under FT_OCCLUDER_PASS it emits instead the occluder of the line for
+// occlusion culling (common/occlusion_cull.h): the part of the rectangle
+// whose eye rays surely hit the capsule, pushed back by the radius. In the
+// shaded pass it drops a line that lies wholly behind the occluders' depth
+// pyramid.
 #include "common/constants.h"
+#include "common/occlusion_cull.h"
 #include "common/view_params.h"
 
 layout(lines) in;
 layout(triangle_strip, max_vertices = 4) out;
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
+layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
+layout(std430, binding = FT_SSBO_OCCLUSION) readonly buffer OcclusionTexels { float occlusionTexels[]; };
 
 layout(location = 0) in vec4 fiberPosition[];
 layout(location = 1) flat in uvec4 fiberId[];
@@ -39,6 +48,7 @@ layout(location = 13) flat out vec3 lineYarnN1;
 layout(location = 14) flat out vec3 lineYarnB0;
 layout(location = 15) flat out vec3 lineYarnB1;
 layout(location = 16) flat out uint lineCurve;
+layout(location = 17) flat out float lineNearestDepth;  // no point of the line's capsule is nearer (window depth)
 
 // Any unit vector ⟂ e.
 vec3 anyPerpendicular(vec3 e) {
@@ -104,6 +114,55 @@ void main() {
   float R = max(r[0], r[1]);
   vec3 corners[4] = vec3[4](q[0] - ext[0] * along - R * across, q[0] - ext[0] * along + R * across,
                             q[1] + ext[1] * along - R * across, q[1] + ext[1] * along + R * across);
+#ifdef FT_OCCLUDER_PASS
+  // Every eye ray through the part of the rectangle between the ends and
+  // within half the thinner end's radius of the axis passes the axis within
+  // half a radius, so it hits the capsule. Its corners go back along their
+  // eye rays to the view depth of their end plus twice its radius: no point
+  // of the capsule, nor the core-fiber texture's surface (at most √2 radii
+  // off the axis), is that deep. The fragment stage removes the core
+  // texture's holes.
+  vec3 forward = ftViewForward(view);
+  if (dot(forward, forward) == 0.0) return;  // not a perspective view: no occluders
+  float inner = 0.5 * min(w.x, w.y) * planeDepth / max(dot(eye - p0, e), dot(eye - p1, e));
+  for (int i = 0; i < 4; ++i) {
+    int end = i / 2;
+    corners[i] = q[end] + ((i & 1) == 0 ? -inner : inner) * across;
+    float cornerDepth = dot(corners[i] - eye, forward);
+    if (!(cornerDepth > 0.0)) return;  // a corner at or behind the eye: no occluder
+#ifdef FT_FAULT_OCCLUDER_NOT_PUSHED
+    float push = 0.0;  // the occluder left at its end's axis depth: nearer than the capsule's side
+#else
+    float push = 2.0 * w[end];
+#endif
+    corners[i] = eye + (corners[i] - eye) * ((dot((end == 0 ? p0 : p1) - eye, forward) + push) / cornerDepth);
+  }
+  float nearest = 0.0;
+#else
+  // The core-fiber texture moves a core's hit up to √2 of its half-width off
+  // the axis (fiber_strip.frag.glsl): 1.5 covers every type.
+  float nearest = min(ftNearestWindowDepth(view, p0, 1.5 * w.x), ftNearestWindowDepth(view, p1, 1.5 * w.y));
+#endif
+  vec4 clip[4];
+  for (int i = 0; i < 4; ++i) clip[i] = view.viewProj * vec4(corners[i], 1.0);
+  if (pyramid.size.w != 0u && clip[0].w > 0.0 && clip[1].w > 0.0 && clip[2].w > 0.0 && clip[3].w > 0.0) {
+    vec2 lo = vec2(3.0e38), hi = vec2(-3.0e38);
+    for (int i = 0; i < 4; ++i) {
+      vec2 px = (0.5 * clip[i].xy / clip[i].w + 0.5) * vec2(pyramid.size.xy);
+      lo = min(lo, px);
+      hi = max(hi, px);
+    }
+    vec2 size = vec2(pyramid.size.xy);
+    if (hi.x >= 0.0 && hi.y >= 0.0 && lo.x < size.x && lo.y < size.y) {
+      uvec2 a = uvec2(clamp(floor(lo), vec2(0.0), size - 1.0)), b = uvec2(clamp(floor(hi), vec2(0.0), size - 1.0));
+      uint k = ftOcclusionLevelFor(pyramid, a, b);
+      float deepest = max(max(occlusionTexels[ftOcclusionIndex(pyramid, k, a.x >> k, a.y >> k)],
+                              occlusionTexels[ftOcclusionIndex(pyramid, k, b.x >> k, a.y >> k)]),
+                          max(occlusionTexels[ftOcclusionIndex(pyramid, k, a.x >> k, b.y >> k)],
+                              occlusionTexels[ftOcclusionIndex(pyramid, k, b.x >> k, b.y >> k)]));
+      if (nearest > deepest) return;  // behind the occluders at every pixel it could cover
+    }
+  }
   for (int i = 0; i < 4; ++i) {
     stripType = i < 2 ? type0 : type1;
     stripWorld = corners[i];
@@ -119,7 +178,8 @@ void main() {
     lineYarnB0 = yarnBinormal[0];
     lineYarnB1 = yarnBinormal[1];
     lineCurve = fiberId[0].x;
-    gl_Position = view.viewProj * vec4(corners[i], 1.0);
+    lineNearestDepth = nearest;
+    gl_Position = clip[i];
     EmitVertex();
   }
   EndPrimitive();

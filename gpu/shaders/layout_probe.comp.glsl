@@ -13,6 +13,7 @@
 #include "common/core_texture.h"
 #include "common/ambient_occlusion.h"
 #include "common/shadow_map.h"
+#include "common/occlusion_cull.h"
 
 layout(local_size_x = 1) in;
 
@@ -43,6 +44,7 @@ layout(std430, binding = FT_SSBO_CORE_TEX0) buffer CoreCopyBuf { CoreTexturePara
 layout(std140, binding = FT_UBO_AMBIENT_OCCLUSION) uniform AoBlock { AmbientOcclusionParams ao; };
 layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionParams aoCopy; };
 layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMapParams; };
+layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -68,4 +70,5 @@ void main() {
   aoCopy = ao;
   // Read, so the block is active (the storage-block limit, 16, leaves no room for a copy).
   if (shadowMapParams.count.w == 0xFFFFFFFFu) aoCopy.seed = ao.seed;  // the same value either way
+  if (pyramid.size.w == 0xFFFFFFFFu && pyramid.level[FT_OCCLUSION_MAX_LEVELS - 1].w == 0u) aoCopy.seed = ao.seed;
 }

@@ -1,0 +1,111 @@
+// occlusion_cull_cases.cpp — the shaded frame's occlusion culling
+// (common/occlusion_cull.h, FiberRenderer::draw) changes nothing.
+//
+// shading/occlusion-cull/<view>/<path>: the harness model's shaded frame with
+// every approximation of 000 §4 on (the core-fiber texture's holes are what
+// the occluder pass must respect), rendered with and without the culling.
+// The culling may only drop lines and fragments that would fail the depth
+// test, so the two frames must agree bit for bit: no tolerance, no shared
+// code with the culling in the check. It is not vacuous: the occluder pass
+// must cover a share of the pixels (else nothing is ever culled), and the
+// planted faults that make it cull a visible line (a near bound taken on the
+// capsule's far side; occluders not pushed back) fail it.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "gpu/fiber_renderer.h"
+#include "gpu/shading_inputs_gpu.h"
+#include "scene/camera.h"
+#include "scene/lighting.h"
+#include "scene/yarn_radius.h"
+#include "validation/harness.h"
+
+namespace ft {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kWidth = 320, kHeight = 240;
+// The occluder pass must occlude at least this share of the pixels for the
+// equality to mean anything. Measured on the built-in scene at 320 × 240:
+// 0.24 (close-up), 0.12 (frame, which leaves most of the image empty).
+constexpr double kMinOccludedClose = 0.1, kMinOccludedFrame = 0.05;
+
+CaseResult runOcclusionCull(ValidationContext& ctx, const std::string& view, bool tessellation) {
+  CaseResult r;
+  const char* pathName = tessellation ? "tessellation" : "compute";
+  r.name = fmt::format("shading/occlusion-cull/{}/{}", view, pathName);
+  r.group = "shading";
+  r.path = pathName;
+  const auto t0 = Clock::now();
+  const YarnPreset& preset = findYarnPreset("cotton1");
+  const FiberSetup& setup = ctx.fiberSetup(preset);
+  const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
+    return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
+  });
+  const Camera camera = namedViewCamera(view, ctx.model(), setup.params, glm::vec3(0.3f, 0.5f, 1.0f), kWidth, kHeight);
+  Lighting lighting;
+  lighting.fabric = "cotton";
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
+  gpu.setModel(ctx.buffers(), setup.table);
+  gpu.setParams(setup.params, makeViewParams(camera, ctx.options().lodThresholdPx, true, true));
+  gpu.setSegmentList({});
+  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
+  const AppearanceOptions everything;  // core texture, self-shadow, AO fit, shadow map: the defaults
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake(
+      {makeShadingParams(lighting), &fitted.fit.preset, everything, &setup.params, &setup.table}));
+  const FiberPath path = tessellation ? FiberPath::Tessellation : FiberPath::Compute;
+  renderer.setOcclusionCull(false);
+  const ImageRgbaF all = renderer.render(gpu, path, kWidth, kHeight);
+  renderer.setOcclusionCull(true);
+  const ImageRgbaF culled = renderer.render(gpu, path, kWidth, kHeight);
+  const double occluded = renderer.occludedFraction();
+  r.gpuMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  r.gpuTiming = "steady_clock: bakes + 2 frames with read-back";
+
+  size_t differing = 0, nonFinite = 0, covered = 0;
+  double worst = 0.0;
+  for (size_t p = 0; p < all.pixelCount(); ++p) {
+    bool differs = false;
+    for (int c = 0; c < 4; ++c) {
+      const float a = all.pixels[4 * p + c], b = culled.pixels[4 * p + c];
+      if (!std::isfinite(a) || !std::isfinite(b)) ++nonFinite;
+      if (a != b) differs = true;
+      worst = std::isnan(a - b) ? worst : std::max(worst, double(std::abs(a - b)));
+    }
+    differing += differs;
+    covered += all.pixels[4 * p + 3] > 0.0f;
+  }
+  const double minOccluded = view == "closeup" ? kMinOccludedClose : kMinOccludedFrame;
+  r.metrics = {
+      Metric{"nonfinite.gpu", double(nonFinite), 0.0, "count", "NaN/Inf are failures"},
+      Metric{"pixels.differing", double(differing), 0.0, "count",
+             "culling drops only what the depth test would reject: the frames agree bit for bit"},
+      Metric{"value.max_abs", worst, 0.0, "radiance", "the largest difference of a channel", false},
+      Metric{"occluded.short", std::max(0.0, minOccluded - occluded), 0.0, "fraction",
+             fmt::format("the occluder pass covers at least {:.2f} of the pixels (else the check is vacuous)", minOccluded)},
+      Metric{"occluded.fraction", occluded, 0.0, "fraction", "pixels with an occluder (pyramid level 0 < 1)", false},
+      Metric{"pixels.covered", double(covered), 0.0, "count", "pixels the frame covers", false},
+  };
+  r.details = fmt::format("{} of {} pixels differ; occluders over {:.3f} of the pixels; {} covered", differing,
+                          all.pixelCount(), occluded, covered);
+  r.finish();
+  return r;
+}
+
+}  // namespace
+
+void addOcclusionCullCases(ValidationContext& /*ctx*/, std::vector<ValidationCase>& out) {
+  for (const char* view : {"closeup", "frame"})
+    for (bool tessellation : {false, true})
+      out.push_back({fmt::format("shading/occlusion-cull/{}/{}", view, tessellation ? "tessellation" : "compute"),
+                     [view = std::string(view), tessellation](ValidationContext& c) {
+                       return runOcclusionCull(c, view, tessellation);
+                     }});
+}
+
+}  // namespace ft
