@@ -90,10 +90,15 @@ FT_FUNC float ftNearestWindowDepth(ViewParams v, vec3 p, float reach) {
 }
 
 // The pyramid level at which the pixel rectangle [lo, hi] (inclusive pixel
-// indices) spans at most 2 × 2 texels.
+// indices) spans at most FT_OCCLUSION_SPAN × FT_OCCLUSION_SPAN texels: the
+// finer the level, the more lines a partly covered neighbourhood still hides
+// (4 × 4 at level k against 2 × 2 at level k + 1).
+#define FT_OCCLUSION_SPAN 4u
 FT_FUNC uint ftOcclusionLevelFor(OcclusionPyramid p, uvec2 lo, uvec2 hi) {
   uint k = 0u;
-  while (k + 1u < p.size.z && (((hi.x >> k) - (lo.x >> k)) > 1u || ((hi.y >> k) - (lo.y >> k)) > 1u)) ++k;
+  while (k + 1u < p.size.z && (((hi.x >> k) - (lo.x >> k)) >= FT_OCCLUSION_SPAN ||
+                               ((hi.y >> k) - (lo.y >> k)) >= FT_OCCLUSION_SPAN))
+    ++k;
   return k;
 }
 

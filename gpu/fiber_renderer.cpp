@@ -67,15 +67,16 @@ FiberRenderer::FiberRenderer(const GlInfo&, std::vector<std::string> defines) : 
 
 FiberRenderer::~FiberRenderer() = default;
 
-GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, bool occluder) {
-  Program& p = programs_[path == FiberPath::Compute ? 0 : 1][occluder ? 1 : 0];
+GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass pass) {
+  Program& p = programs_[path == FiberPath::Compute ? 0 : 1][int(pass)];
   if (!p) {
     FiberDrawStages stages = fibers.drawStages(path);
     stages.files.push_back("shaders/fiber_strip.geom.glsl");
     stages.files.push_back("shaders/fiber_strip.frag.glsl");
     std::vector<std::string> defines = defines_;
     defines.insert(defines.end(), stages.defines.begin(), stages.defines.end());
-    if (occluder) defines.push_back("FT_OCCLUDER_PASS");
+    if (pass != StripPass::Shaded) defines.push_back("FT_OCCLUDER_PASS");
+    if (pass == StripPass::PlainOccluders) defines.push_back("FT_OCCLUDER_PLAIN");
     p = Program(buildProgram(stages.files, defines));
   }
   return p.id();
@@ -232,7 +233,6 @@ void FiberRenderer::drawOccluders(FiberGpu& fibers, FiberPath path, int width, i
     occluderHeight_ = height;
   }
   bindOcclusion(false);
-  const GLuint prog = program(fibers, path, true);
   glBindFramebuffer(GL_FRAMEBUFFER, occluderFbo_.id());
   glViewport(0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
@@ -240,8 +240,18 @@ void FiberRenderer::drawOccluders(FiberGpu& fibers, FiberPath path, int width, i
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
   bindShading();  // the core-fiber texture's holes are not occluders
-  setUniform(prog, "shaded", 1u);
-  fibers.draw(path, prog);
+  // Plain lines first (no fragment work), then the textured core strips,
+  // whose fragments look up the texture: two programs, so that neither pays
+  // for the other's code (llvmpipe runs all of a fragment shader).
+  const bool texturedCores = (inputs_.params.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u;
+  const GLuint plain = program(fibers, path, StripPass::PlainOccluders);
+  setUniform(plain, "occluderTexturedCores", texturedCores ? 1u : 0u);
+  fibers.draw(path, plain);
+  if (texturedCores) {
+    const GLuint cores = program(fibers, path, StripPass::CoreOccluders);
+    setUniform(cores, "shaded", 1u);
+    fibers.draw(path, cores);
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glDisable(GL_DEPTH_TEST);
 

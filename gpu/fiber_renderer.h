@@ -99,8 +99,9 @@ class FiberRenderer {
                             const RenderStyle& style = {});
 
  private:
-  // Built on first use per path; `occluder`: the occluder pass's program.
-  GLuint program(const FiberGpu& fibers, FiberPath path, bool occluder = false);
+  // Built on first use per path and pass (common/occlusion_cull.h).
+  enum class StripPass { Shaded, PlainOccluders, CoreOccluders };
+  GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded);
   void bindShading() const;
   // The occluder pass and its depth pyramid into occlusionTexels_; binds the
   // pyramid for the shaded pass.
@@ -108,7 +109,7 @@ class FiberRenderer {
   void bindOcclusion(bool enabled);
 
   std::vector<std::string> defines_;
-  Program programs_[2][2];  // [path][occluder pass]
+  Program programs_[2][3];  // [path][StripPass]
   // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
   bool occlusionCull_ = true;
   Program pyramidProgram_;

@@ -309,13 +309,18 @@ void main() {
 #ifdef FT_OCCLUDER_PASS
   // The occluder pass (common/occlusion_cull.h): the rasterised depth of the
   // occluder rectangle stands (the capsule surely covers it), except where a
-  // core strip's texture may have a hole for the shaded pass.
-  if (stripType != FT_FIBER_CORE || (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) == 0u) return;
-  {
-    FiberHit hc;
-    if (!castCapsule(stripWorld, hc) || !applyCoreTexture(hc)) discard;
-    return;
-  }
+  // core strip's texture may have a hole for the shaded pass. Two draws
+  // (FiberRenderer::drawOccluders): plain lines with nothing to compute here
+  // (llvmpipe runs every statement of a fragment shader for every fragment,
+  // masked, whatever the branches: only code the compiler removes is free),
+  // and textured core strips.
+#ifdef FT_OCCLUDER_PLAIN
+  return;
+#else
+  FiberHit hc;
+  if (!castCapsule(stripWorld, hc) || !applyCoreTexture(hc)) discard;
+  return;
+#endif
 #endif
   // Behind the occluders at every sample of this pixel: the depth test would
   // reject it, so skip the ray casts and the shading.

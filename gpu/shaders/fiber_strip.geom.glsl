@@ -23,6 +23,7 @@ layout(triangle_strip, max_vertices = 4) out;
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std430, binding = FT_SSBO_OCCLUSION) readonly buffer OcclusionTexels { float occlusionTexels[]; };
+uniform uint occluderTexturedCores;  // occluder pass: 1 when core strips carry the core-fiber texture (holes)
 
 layout(location = 0) in vec4 fiberPosition[];
 layout(location = 1) flat in uvec4 fiberId[];
@@ -124,6 +125,13 @@ void main() {
   // texture's holes.
   vec3 forward = ftViewForward(view);
   if (dot(forward, forward) == 0.0) return;  // not a perspective view: no occluders
+  // Two draws (FiberRenderer::drawOccluders): the plain lines, with core
+  // strips among them when they have no holes, and the textured core strips.
+#ifdef FT_OCCLUDER_PLAIN
+  if (type0 == FT_FIBER_CORE && occluderTexturedCores != 0u) return;
+#else
+  if (type0 != FT_FIBER_CORE) return;
+#endif
   float inner = 0.5 * min(w.x, w.y) * planeDepth / max(dot(eye - p0, e), dot(eye - p1, e));
   for (int i = 0; i < 4; ++i) {
     int end = i / 2;
@@ -156,10 +164,9 @@ void main() {
     if (hi.x >= 0.0 && hi.y >= 0.0 && lo.x < size.x && lo.y < size.y) {
       uvec2 a = uvec2(clamp(floor(lo), vec2(0.0), size - 1.0)), b = uvec2(clamp(floor(hi), vec2(0.0), size - 1.0));
       uint k = ftOcclusionLevelFor(pyramid, a, b);
-      float deepest = max(max(occlusionTexels[ftOcclusionIndex(pyramid, k, a.x >> k, a.y >> k)],
-                              occlusionTexels[ftOcclusionIndex(pyramid, k, b.x >> k, a.y >> k)]),
-                          max(occlusionTexels[ftOcclusionIndex(pyramid, k, a.x >> k, b.y >> k)],
-                              occlusionTexels[ftOcclusionIndex(pyramid, k, b.x >> k, b.y >> k)]));
+      float deepest = 0.0;
+      for (uint y = a.y >> k; y <= (b.y >> k); ++y)
+        for (uint x = a.x >> k; x <= (b.x >> k); ++x) deepest = max(deepest, occlusionTexels[ftOcclusionIndex(pyramid, k, x, y)]);
       if (nearest > deepest) return;  // behind the occluders at every pixel it could cover
     }
   }
