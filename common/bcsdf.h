@@ -29,12 +29,21 @@
 #ifdef __cplusplus
 namespace ft {
 inline bool ftFaultBcsdfNormThetaI = false;
+inline bool ftFaultLobeNormTexelAngle = false;
 }
 #define FT_FAULT_BCSDF_NORM_THETA_I_ON ::ft::ftFaultBcsdfNormThetaI
-#elif defined(FT_FAULT_BCSDF_NORM_THETA_I)
+#define FT_FAULT_LOBE_NORM_TEXEL_ANGLE_ON ::ft::ftFaultLobeNormTexelAngle
+#else
+#if defined(FT_FAULT_BCSDF_NORM_THETA_I)
 #define FT_FAULT_BCSDF_NORM_THETA_I_ON true
 #else
 #define FT_FAULT_BCSDF_NORM_THETA_I_ON false
+#endif
+#if defined(FT_FAULT_LOBE_NORM_TEXEL_ANGLE)
+#define FT_FAULT_LOBE_NORM_TEXEL_ANGLE_ON true
+#else
+#define FT_FAULT_LOBE_NORM_TEXEL_ANGLE_ON false
+#endif
 #endif
 
 FT_NAMESPACE_BEGIN
@@ -98,9 +107,12 @@ FT_FUNC float ftGaussian(float x, float beta) {
 // Closed form ½(1 + e^(−2β²) cos 2θ_i) of the untruncated Gaussian while the
 // lobe's ±6β window stays inside (−π/2, π/2); quadrature over the window
 // clipped to it otherwise.
+FT_FUNC float ftLongitudinalNormClosed(float thetaI, float beta) {
+  return 0.5f * (1.0f + exp(-2.0f * beta * beta) * cos(2.0f * thetaI));
+}
 FT_FUNC float ftLongitudinalNorm(float thetaI, float beta) {
   float halfPi = 0.5f * FT_PI;
-  if (abs(thetaI) + kFtLobeWindow * beta <= halfPi) return 0.5f * (1.0f + exp(-2.0f * beta * beta) * cos(2.0f * thetaI));
+  if (abs(thetaI) + kFtLobeWindow * beta <= halfPi) return ftLongitudinalNormClosed(thetaI, beta);
   float lo = max(-halfPi, -thetaI - kFtLobeWindow * beta);
   float hi = min(halfPi, -thetaI + kFtLobeWindow * beta);
   float c = 0.5f * (lo + hi), h = 0.5f * (hi - lo);
@@ -113,11 +125,56 @@ FT_FUNC float ftLongitudinalNorm(float thetaI, float beta) {
   return max(h * sum, 1e-30f);
 }
 
-// Longitudinal lobe M_p(θ_i, θ_o) = g(θ_o + θ_i; β_p) / Z_p(θ_i).
+// The angle the lobes are normalised at: θ_i (the planted fault takes θ_o).
+FT_FUNC float ftLobeNormAngle(FiberAngles a) { return FT_FAULT_BCSDF_NORM_THETA_I_ON ? a.thetaO : a.thetaI; }
+
+// (Z_R, Z_TT) at θ, exact (ftLongitudinalNorm).
+FT_FUNC vec2 ftLobeNorms(FabricParams p, float theta) {
+  return vec2(ftLongitudinalNorm(theta, p.colorR.w), ftLongitudinalNorm(theta, p.colorTT.w));
+}
+
+// Longitudinal lobe M_p(θ_i, θ_o) = g(θ_o + θ_i; β_p) / Z_p(θ_i), Z given.
+FT_FUNC float ftLongitudinalNormed(float thetaI, float thetaO, float beta, float z) {
+  return ftGaussian(thetaO + thetaI, beta) / z;
+}
 FT_FUNC float ftLongitudinal(float thetaI, float thetaO, float beta) {
   float z = FT_FAULT_BCSDF_NORM_THETA_I_ON ? ftLongitudinalNorm(thetaO, beta)  // normalised over θ_i: wrong
                                            : ftLongitudinalNorm(thetaI, beta);
-  return ftGaussian(thetaO + thetaI, beta) / z;
+  return ftLongitudinalNormed(thetaI, thetaO, beta, z);
+}
+
+// ---- The lobe-normalisation table Z_p(|θ_i|) -------------------------------
+// Z is even in θ_i and has the closed form while |θ_i| + 6β ≤ π/2; beyond, the
+// 20-point quadrature above, which a fragment stage would run per light and
+// lobe (on llvmpipe, which runs both sides of a branch, always: 0.8 s of a
+// 7 s glove frame). The frame looks Z up instead: row p of the table holds Z_p
+// at n angles evenly over [θ_lo, π/2], θ_lo = max(0, π/2 − 6β_p), where the
+// quadrature applies; below θ_lo the closed form stays. Linear interpolation
+// over a window of 6β in 255 steps is within 1.3e-4 of Z for every β
+// (docs/shading.md). The ground truth (reference/fiber_trace.cpp) keeps the
+// exact Z.
+FT_FUNC float ftLobeNormTableStart(float beta) { return max(0.0f, 0.5f * FT_PI - kFtLobeWindow * beta); }
+FT_FUNC float ftLobeNormTexelAngle(int k, int n, float beta) {
+  float lo = ftLobeNormTableStart(beta);
+  // The planted fault spaces the texels by 1/n: the last one short of π/2.
+  return lo + float(k) * (0.5f * FT_PI - lo) / float(FT_FAULT_LOBE_NORM_TEXEL_ANGLE_ON ? n : n - 1);
+}
+// Lookup of |θ| in the row of β: x = the texel below, y = the one above
+// (clamped), z = the weight of y; w = 1 where the closed form applies
+// (|θ| below the row), 0 where the two texels are to be mixed.
+FT_FUNC vec4 ftLobeNormLookup(float theta, float beta, int n) {
+  float lo = ftLobeNormTableStart(beta);
+  float a = abs(theta);
+  if (a + kFtLobeWindow * beta <= 0.5f * FT_PI) return vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  float u = clamp((a - lo) / (0.5f * FT_PI - lo) * float(n - 1), 0.0f, float(n - 1));
+  float k0 = min(floor(u), float(n - 1));
+  float k1 = min(k0 + 1.0f, float(n - 1));
+  return vec4(k0, k1, u - k0, 0.0f);
+}
+// Z from a lookup and the row's two texels.
+FT_FUNC float ftLobeNormFromTable(vec4 lookup, float theta, float beta, float z0, float z1) {
+  if (lookup.w != 0.0f) return ftLongitudinalNormClosed(theta, beta);
+  return mix(z0, z1, lookup.z);
 }
 
 // Azimuthal TT lobe: a von Mises distribution centred at φ = π,
@@ -138,20 +195,31 @@ FT_FUNC vec3 ftFiberFresnel(vec3 colorR, float thetaI) {
   return colorR + (vec3(1.0f) - colorR) * (m2 * m2 * m);
 }
 
-// The R lobe F·M_R·N_R and the TT lobe (1 − F)·C_TT·M_TT·N_TT of eq. 6.
-FT_FUNC vec3 ftBcsdfR(FabricParams p, FiberAngles a) {
-  return ftFiberFresnel(vec3(p.colorR), a.thetaI) * (ftLongitudinal(a.thetaI, a.thetaO, p.colorR.w) / FT_TWO_PI);
+// The R lobe F·M_R·N_R and the TT lobe (1 − F)·C_TT·M_TT·N_TT of eq. 6, with
+// the lobes' normalisations z = (Z_R, Z_TT) at ftLobeNormAngle given (exact:
+// ftLobeNorms; the frame's: its table).
+FT_FUNC vec3 ftBcsdfRNormed(FabricParams p, FiberAngles a, float z) {
+  return ftFiberFresnel(vec3(p.colorR), a.thetaI) * (ftLongitudinalNormed(a.thetaI, a.thetaO, p.colorR.w, z) / FT_TWO_PI);
 }
-FT_FUNC vec3 ftBcsdfTT(FabricParams p, FiberAngles a) {
+FT_FUNC vec3 ftBcsdfTTNormed(FabricParams p, FiberAngles a, float z) {
   vec3 transmitted = (vec3(1.0f) - ftFiberFresnel(vec3(p.colorR), a.thetaI)) * vec3(p.colorTT);
 #ifdef FT_FAULT_BCSDF_TT_STRONG
   transmitted *= 1.2f;  // TT lobe 20 % too strong (GLSL only: the GPU side)
 #endif
-  return transmitted * (ftLongitudinal(a.thetaI, a.thetaO, p.colorTT.w) * ftAzimuthalTT(a.phi, p.lobes.y));
+  return transmitted * (ftLongitudinalNormed(a.thetaI, a.thetaO, p.colorTT.w, z) * ftAzimuthalTT(a.phi, p.lobes.y));
+}
+FT_FUNC vec3 ftBcsdfR(FabricParams p, FiberAngles a) {
+  return ftBcsdfRNormed(p, a, ftLobeNorms(p, ftLobeNormAngle(a)).x);
+}
+FT_FUNC vec3 ftBcsdfTT(FabricParams p, FiberAngles a) {
+  return ftBcsdfTTNormed(p, a, ftLobeNorms(p, ftLobeNormAngle(a)).y);
 }
 
 // f(ω_i, ω_o) of eq. 6, per RGB channel.
-FT_FUNC vec3 ftBcsdf(FabricParams p, FiberAngles a) { return ftBcsdfR(p, a) + ftBcsdfTT(p, a); }
+FT_FUNC vec3 ftBcsdfNormed(FabricParams p, FiberAngles a, vec2 z) {
+  return ftBcsdfRNormed(p, a, z.x) + ftBcsdfTTNormed(p, a, z.y);
+}
+FT_FUNC vec3 ftBcsdf(FabricParams p, FiberAngles a) { return ftBcsdfNormed(p, a, ftLobeNorms(p, ftLobeNormAngle(a))); }
 
 // Its albedo ∫∫ f cos²θ_o dθ_o dφ = F + (1 − F) C_TT (invariant B1): what the
 // ambient table tends to as the lobes narrow.

@@ -74,6 +74,7 @@
 // precomputed input takes its slot here.
 #define FT_UBO_SHADING 4           // ShadingParams (common/fiber_shading.h)
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/bcsdf.h)
+#define FT_SSBO_LOBE_NORM_TABLE 38 // vec2[FT_LOBE_NORM_TABLE_SIZE]: (Z_R, Z_TT) at ftLobeNormTexelAngle (common/bcsdf.h)
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u

@@ -42,6 +42,8 @@ inline bool ftFaultShadingCosDropped = false;
 #define FT_APPEARANCE_SHADOW_MAP 16u  // 000 §4.1 yarn shadow map (common/shadow_map.h)
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
+// Texels per lobe of the lobe-normalisation table Z_p(|θ_i|) (bcsdf.h).
+#define FT_LOBE_NORM_TABLE_SIZE 256
 
 FT_NAMESPACE_BEGIN
 
@@ -64,15 +66,21 @@ FT_ASSERT_OFFSET(ShadingParams, background, 240)
 FT_ASSERT_SIZE(ShadingParams, 256)
 
 // The fiber's response to directional light i, without visibility:
-// E_i [(1 − k_d) f cos θ_i + (k_d/π) max(0, n·ω_i)].
-FT_FUNC vec3 ftFiberDirect(ShadingParams s, int i, vec3 t, vec3 n, vec3 wo) {
+// E_i [(1 − k_d) f cos θ_i + (k_d/π) max(0, n·ω_i)], a = ftFiberAngles(t, ω_i,
+// ω_o), z = (Z_R, Z_TT) at ftLobeNormAngle(a) (bcsdf.h: exact, or the frame's
+// table).
+FT_FUNC vec3 ftFiberDirectNormed(ShadingParams s, int i, FiberAngles a, vec3 n, vec2 z) {
   vec3 wi = vec3(s.lightDirection[i]);
-  FiberAngles a = ftFiberAngles(t, wi, wo);
   vec3 f = s.flags.y == FT_SHADING_SIMPLE ? vec3(ftSimpleSpecular(s.simple.x, s.simple.y, a))
-                                          : ftBcsdf(s.fabric, a);
+                                          : ftBcsdfNormed(s.fabric, a, z);
   vec3 diffuse = vec3(s.diffuse) * (max(dot(n, wi), 0.0f) / FT_PI);
   float cosThetaI = FT_FAULT_SHADING_COS_DROPPED_ON ? 1.0f : cos(a.thetaI);  // eq. 7 as printed: no cos θ_i
   return vec3(s.lightIrradiance[i]) * ((vec3(1.0f) - vec3(s.diffuse)) * f * cosThetaI + diffuse);
+}
+// ... with the exact Z (the ground truth).
+FT_FUNC vec3 ftFiberDirect(ShadingParams s, int i, vec3 t, vec3 n, vec3 wo) {
+  FiberAngles a = ftFiberAngles(t, vec3(s.lightDirection[i]), wo);
+  return ftFiberDirectNormed(s, i, a, n, ftLobeNorms(s.fabric, ftLobeNormAngle(a)));
 }
 
 // The ambient term L_amb [(1 − k_d) A(θ_o) + k_d], given A(θ_o) from the table.

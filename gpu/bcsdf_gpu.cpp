@@ -31,6 +31,7 @@ BcsdfGpu::BcsdfGpu(const GlInfo& gl, const std::vector<std::string>& defines)
     : maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {
   evalProgram_ = Program(buildProgram({"shaders/bcsdf_eval.comp.glsl"}, defines));
   bakeProgram_ = Program(buildProgram({"shaders/bcsdf_ambient.comp.glsl"}, defines));
+  lobeNormProgram_ = Program(buildProgram({"shaders/bcsdf_lobe_norm.comp.glsl"}, defines));
 }
 
 void BcsdfGpu::dispatch(GLuint program, size_t items, const char* what) {
@@ -120,6 +121,39 @@ std::vector<glm::vec3> BcsdfGpu::lookupAmbient(std::span<const glm::vec3> table,
   tableBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE);
   setUniform(evalProgram_.id(), "texels", static_cast<uint32_t>(table.size()));
   return evaluate(FabricParams{}, requests, thetas.size(), kLookup, {});
+}
+
+std::vector<glm::vec2> BcsdfGpu::runLobeNorm(const FabricParams& fabric, std::span<const glm::vec2> table,
+                                             std::span<const float> thetas, int texels, bool lookup) {
+  if (texels < 2) throw std::invalid_argument(fmt::format("BcsdfGpu: a lobe-normalisation table of {} texels", texels));
+  std::vector<glm::vec4> requests(thetas.size());
+  for (size_t i = 0; i < thetas.size(); ++i) requests[i] = glm::vec4(thetas[i], 0.0f, 0.0f, 0.0f);
+  const Buffer input = inputBuffer(fabric, requests);
+  const std::vector<glm::vec2> tableOrDummy = table.empty() ? std::vector<glm::vec2>(2) : std::vector(table.begin(), table.end());
+  const Buffer tableBuffer = Buffer::fromVector(tableOrDummy);
+  const size_t count = lookup ? thetas.size() : size_t(texels);
+  output_ = Buffer::create(std::max<size_t>(count, 1) * sizeof(glm::vec4));
+  const GLuint p = lobeNormProgram_.id();
+  setUniform(p, "texels", static_cast<uint32_t>(texels));
+  setUniform(p, "count", static_cast<uint32_t>(thetas.size()));
+  setUniform(p, "lookup", lookup ? 1u : 0u);
+  input.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_BCSDF_INPUT);
+  tableBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_LOBE_NORM_TABLE);
+  output_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_BCSDF_OUTPUT);
+  dispatch(p, count, "bcsdf_lobe_norm");
+  const std::vector<glm::vec3> raw = readResults(count);
+  std::vector<glm::vec2> out(count);
+  for (size_t i = 0; i < count; ++i) out[i] = glm::vec2(raw[i]);
+  return out;
+}
+
+std::vector<glm::vec2> BcsdfGpu::bakeLobeNormTable(const FabricParams& fabric, int texels) {
+  return runLobeNorm(fabric, {}, {}, texels, false);
+}
+
+std::vector<glm::vec2> BcsdfGpu::lookupLobeNorm(const FabricParams& fabric, std::span<const glm::vec2> table,
+                                                std::span<const float> thetas) {
+  return runLobeNorm(fabric, table, thetas, int(table.size()), true);
 }
 
 }  // namespace ft

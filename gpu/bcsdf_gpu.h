@@ -1,7 +1,8 @@
 // bcsdf_gpu.h — the GPU side of the fiber BCSDF (common/bcsdf.h, 000 §4.3):
 // bcsdf_eval.comp.glsl evaluates f of eq. 6 (or one lobe) or f_spec of eq. 5
 // on lists of angles or directions, and ftAmbientLookup on a table;
-// bcsdf_ambient.comp.glsl bakes the ambient table A(θ_o) of eq. 7–10 in float.
+// bcsdf_ambient.comp.glsl bakes the ambient table A(θ_o) of eq. 7–10 in float;
+// bcsdf_lobe_norm.comp.glsl the lobe-normalisation table Z_p and its lookup.
 // One invocation per request or texel, FT_WG_BCSDF per group. Every call
 // uploads, dispatches and reads back (waits for the GPU).
 #pragma once
@@ -52,6 +53,12 @@ class BcsdfGpu {
                                           int steps = kAmbientSteps);
   // The table looked up at each θ_o: ftAmbientLookup, the two texels, mix.
   std::vector<glm::vec3> lookupAmbient(std::span<const glm::vec3> table, std::span<const float> thetas);
+  // (Z_R, Z_TT) at ftLobeNormTexelAngle(k, texels, β_p) (common/bcsdf.h), in float.
+  std::vector<glm::vec2> bakeLobeNormTable(const FabricParams& fabric, int texels = FT_LOBE_NORM_TABLE_SIZE);
+  // (Z_R, Z_TT) at each θ_i as the frame finds them: ftLobeNormLookup, the
+  // two texels of `table` (a bakeLobeNormTable of `fabric`), ftLobeNormFromTable.
+  std::vector<glm::vec2> lookupLobeNorm(const FabricParams& fabric, std::span<const glm::vec2> table,
+                                        std::span<const float> thetas);
 
  private:
   // The `kind` uniform of bcsdf_eval.comp.glsl.
@@ -64,7 +71,9 @@ class BcsdfGpu {
   std::vector<glm::vec3> readResults(size_t count);
 
   int maxGroupsY_ = 65535;
-  Program evalProgram_, bakeProgram_;
+  std::vector<glm::vec2> runLobeNorm(const FabricParams& fabric, std::span<const glm::vec2> table,
+                                     std::span<const float> thetas, int texels, bool lookup);
+  Program evalProgram_, bakeProgram_, lobeNormProgram_;
   Buffer output_;
 };
 

@@ -89,6 +89,7 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   std::vector<glm::vec4> texels;
   for (const glm::vec3& a : inputs.ambientTable) texels.emplace_back(a, 0.0f);
   ambientTable_ = makeBuffer(texels.size() * sizeof(glm::vec4), texels.data());
+  lobeNormTable_ = makeBuffer(inputs.lobeNormTable.size() * sizeof(glm::vec2), inputs.lobeNormTable.data());
   // The self-shadow block as the bake kernels declare it (self_shadow_*.comp.glsl).
   struct SelfShadowBlock {
     SelfShadowParams shadow;
@@ -192,6 +193,7 @@ std::vector<float> FiberRenderer::readShadowMap() const {
 void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING, shadingUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_LOBE_NORM_TABLE, lobeNormTable_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SELF_SHADOW, selfShadowUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SELF_SHADOW_TEXTURE, selfShadowTexels_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_CORE_TEXTURE, coreTextureUbo_.id());

@@ -118,7 +118,7 @@ class FiberRenderer {
   int occluderWidth_ = 0, occluderHeight_ = 0;
   Buffer occlusionUbo_, occlusionTexels_;
   OcclusionPyramid pyramid_{};
-  Buffer shadingUbo_, ambientTable_, selfShadowUbo_, selfShadowTexels_;
+  Buffer shadingUbo_, ambientTable_, lobeNormTable_, selfShadowUbo_, selfShadowTexels_;
   Buffer coreTextureUbo_, coreTex0_, coreTex1_;  // 000 §3.2 core-fiber texture
   Buffer aoUbo_, aoTexels_;  // ambient occlusion (000 §4.2)
   // Yarn shadow map: depth pass program, target, and the depth copied to an SSBO for the frame.

@@ -16,6 +16,7 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
   in.params = request.params;
   in.params.flags.w = 0u;
   in.ambientTable = bcsdf_.bakeAmbientTable(request.params.fabric);
+  in.lobeNormTable = bcsdf_.bakeLobeNormTable(request.params.fabric);
   if (request.appearance.selfShadow) {
     if (!request.fittedPreset) throw std::invalid_argument("ShadingBakeGpu: self-shadow needs the yarn preset");
     in.density = makeYarnDensity(*request.fittedPreset);

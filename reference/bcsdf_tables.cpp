@@ -217,4 +217,23 @@ std::vector<glm::vec3> bakeAmbientTableCpu(const FabricParams& fabric, int texel
   return std::vector<glm::vec3>(total.begin(), total.end());
 }
 
+std::vector<glm::vec2> bakeLobeNormTableCpu(const FabricParams& fabric, int texels) {
+  if (texels < 2) throw std::invalid_argument("bakeLobeNormTableCpu: a table needs at least 2 texels");
+  std::vector<glm::vec2> out(static_cast<size_t>(texels));
+  const float betaR = fabric.colorR.w, betaTT = fabric.colorTT.w;
+  for (int k = 0; k < texels; ++k)
+    out[size_t(k)] = glm::vec2(ftLongitudinalNorm(ftLobeNormTexelAngle(k, texels, betaR), betaR),
+                               ftLongitudinalNorm(ftLobeNormTexelAngle(k, texels, betaTT), betaTT));
+  return out;
+}
+
+glm::vec2 lookupLobeNormCpu(const FabricParams& fabric, std::span<const glm::vec2> table, float thetaI) {
+  if (table.size() < 2) throw std::invalid_argument("lookupLobeNormCpu: a table needs at least 2 texels");
+  const int n = int(table.size());
+  const float betaR = fabric.colorR.w, betaTT = fabric.colorTT.w;
+  const glm::vec4 r = ftLobeNormLookup(thetaI, betaR, n), t = ftLobeNormLookup(thetaI, betaTT, n);
+  return glm::vec2(ftLobeNormFromTable(r, thetaI, betaR, table[size_t(r.x)].x, table[size_t(r.y)].x),
+                   ftLobeNormFromTable(t, thetaI, betaTT, table[size_t(t.x)].y, table[size_t(t.y)].y));
+}
+
 }  // namespace ft

@@ -44,4 +44,10 @@ AmbientTableCpu bakeAmbientTableCpuParts(const FabricParams& fabric, int texels 
 // A(θ_k) as the renderer stores it (float rgb).
 std::vector<glm::vec3> bakeAmbientTableCpu(const FabricParams& fabric, int texels = FT_AMBIENT_TABLE_SIZE);
 
+// (Z_R, Z_TT) at ftLobeNormTexelAngle(k, texels, β_p): the lobe-normalisation
+// table of common/bcsdf.h, from the header's exact Z (float, as the GPU).
+std::vector<glm::vec2> bakeLobeNormTableCpu(const FabricParams& fabric, int texels = FT_LOBE_NORM_TABLE_SIZE);
+// (Z_R, Z_TT) at θ_i looked up in such a table as the frame does.
+glm::vec2 lookupLobeNormCpu(const FabricParams& fabric, std::span<const glm::vec2> table, float thetaI);
+
 }  // namespace ft

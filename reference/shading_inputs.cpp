@@ -17,6 +17,7 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
   in.params = request.params;
   in.params.flags.w = 0u;
   in.ambientTable = bakeAmbientTableCpu(request.params.fabric);
+  in.lobeNormTable = bakeLobeNormTableCpu(request.params.fabric);
   if (request.appearance.selfShadow) {
     if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: self-shadow needs the yarn preset");
     in.density = makeYarnDensity(*request.fittedPreset);

@@ -53,6 +53,14 @@ void checkShadingInputs(const ShadingInputs& inputs) {
     if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(a.z))
       throw std::invalid_argument(fmt::format("shading inputs: ambient table texel {} is ({}, {}, {})", k, a.x, a.y, a.z));
   }
+  if (inputs.lobeNormTable.size() != FT_LOBE_NORM_TABLE_SIZE)
+    throw std::invalid_argument(fmt::format("shading inputs: lobe-normalisation table has {} texels, expected {}",
+                                            inputs.lobeNormTable.size(), FT_LOBE_NORM_TABLE_SIZE));
+  for (size_t k = 0; k < inputs.lobeNormTable.size(); ++k) {
+    const glm::vec2 z = inputs.lobeNormTable[k];
+    if (!(std::isfinite(z.x) && z.x > 0.0f && std::isfinite(z.y) && z.y > 0.0f))  // M = g / Z
+      throw std::invalid_argument(fmt::format("shading inputs: lobe-normalisation texel {} is ({}, {})", k, z.x, z.y));
+  }
   const bool selfShadow = (inputs.params.flags.w & FT_APPEARANCE_SELF_SHADOW) != 0u;
   const size_t texels = size_t(inputs.selfShadow.width) * inputs.selfShadow.height * inputs.selfShadow.slices;
   if (selfShadow && (texels == 0 || inputs.selfShadowTexels.size() != texels))

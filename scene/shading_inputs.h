@@ -64,6 +64,10 @@ struct ShadingInputs {
   // A(θ_k) of 000 eq. 7–10 at the FT_AMBIENT_TABLE_SIZE texel centres
   // (common/bcsdf.h ftAmbientTexelAngle), rgb.
   std::vector<glm::vec3> ambientTable;
+  // (Z_R, Z_TT) of the longitudinal lobes at FT_LOBE_NORM_TABLE_SIZE angles
+  // (common/bcsdf.h ftLobeNormTexelAngle): the frame looks Z up instead of
+  // integrating it per fragment.
+  std::vector<glm::vec2> lobeNormTable;
   // The self-shadow texture (000 §4.1) of the frame's yarn; no texels: off
   // (the flag bit FT_APPEARANCE_SELF_SHADOW of params.flags.w says so too).
   SelfShadowParams selfShadow{};

@@ -336,6 +336,70 @@ CaseResult runAmbientCase(ValidationContext& ctx, const FabricPreset& preset, co
   return r;
 }
 
+// ---- bcsdf/lobe-norm/<fabric> ------------------------------------------------------------
+// The frame's lobe-normalisation table (common/bcsdf.h): CPU and GPU bakes,
+// and Z looked up in it against the oracle's Z in double at random θ_i and
+// densely over the table's window, where linear interpolation of 255 steps
+// over 6β is within 1.3e-4 of Z for every β (docs/shading.md).
+
+CaseResult runLobeNormCase(ValidationContext& ctx, const FabricPreset& preset, const std::string& name) {
+  CaseResult r = newResult(name);
+  const FabricParams p = preset.params();
+  const oracle::Fabric fabric = oracleFabric(preset);
+  auto t0 = Clock::now();
+  const std::vector<glm::vec2> cpu = bakeLobeNormTableCpu(p);
+  r.cpuMilliseconds = msSince(t0);
+  std::vector<float> thetas;
+  std::mt19937 rng(38);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 400; ++i) thetas.push_back(float(-0.5 * kPi + kPi * unit(rng)));
+  for (const double beta : {fabric.betaR(), fabric.betaTT()}) {  // the window, where the table is read
+    const double lo = std::max(0.0, 0.5 * kPi - 6.0 * beta);
+    for (int i = 0; i <= 600; ++i) thetas.push_back(float((i % 2 ? -1.0 : 1.0) * (lo + (0.5 * kPi - lo) * i / 600.0)));
+  }
+  t0 = Clock::now();
+  BcsdfGpu& gpu = ctx.gpu<BcsdfGpu>();
+  const std::vector<glm::vec2> table = gpu.bakeLobeNormTable(p);
+  const std::vector<glm::vec2> got = gpu.lookupLobeNorm(p, table, thetas);
+  r.gpuMilliseconds = msSince(t0);
+  Worst tables, lookups, sides;
+  uint64_t bad = 0;
+  for (size_t k = 0; k < cpu.size(); ++k)
+    for (int c = 0; c < 2; ++c) {
+      bad += !std::isfinite(cpu[k][c]) + !std::isfinite(table[k][c]);
+      tables.add(std::abs(double(table[k][c]) - cpu[k][c]) / std::abs(double(cpu[k][c])), k);
+    }
+  std::string details;
+  for (size_t i = 0; i < thetas.size(); ++i) {
+    const glm::vec2 mine = lookupLobeNormCpu(p, cpu, thetas[i]);
+    const double want[2] = {oracle::lobeNorm(fabric.betaR(), thetas[i]), oracle::lobeNorm(fabric.betaTT(), thetas[i])};
+    for (int c = 0; c < 2; ++c) {
+      bad += !std::isfinite(got[i][c]);
+      const double e = std::abs(got[i][c] - want[c]) / want[c];
+      r.histogram.add(e);
+      if (!std::isnan(lookups.value) && !(e <= lookups.value))
+        details = fmt::format("worst lookup: θ_i {:.6f}, Z_{} gpu {:.8g}, oracle {:.8g}", thetas[i], c ? "TT" : "R",
+                              got[i][c], want[c]);
+      lookups.add(e, i);
+      sides.add(std::abs(double(got[i][c]) - mine[c]) / want[c], i);
+    }
+  }
+  r.histogramMetric = "lookup.max_rel";
+  r.metrics = {
+      Metric{"lookup.max_rel", lookups.value, 3e-4, "relative",
+             "GPU table lookup vs the oracle's Z in double (independent quadrature): linear interpolation over 6β in "
+             "255 steps ≤ 1.3e-4 for every β, float quadrature ~1e-6"},
+      Metric{"table.max_rel", tables.value, 1e-5, "relative",
+             "GPU vs CPU bake of the same float Z (closed form or 20-point Gauss-Legendre): GPU exp/cos rounding"},
+      Metric{"sides.max_rel", sides.value, 1e-5, "relative", "GPU vs CPU lookups in their own tables"},
+      Metric{"texels", double(cpu.size()), 0, "count", "FT_LOBE_NORM_TABLE_SIZE texels per lobe", false},
+      nonFiniteMetric("cpu+gpu", bad, "table texels and lookups"),
+  };
+  r.details = details;
+  r.finish();
+  return r;
+}
+
 // ---- bcsdf/albedo/<fabric> --------------------------------------------------------------
 
 // B1 by quadrature of GPU-evaluated f: θ_o by 10-point Gauss–Legendre on
@@ -665,6 +729,7 @@ void addBcsdfCases(ValidationContext&, std::vector<ValidationCase>& out) {
     };
     add("grid", runGridCase);
     add("ambient", runAmbientCase);
+    add("lobe-norm", runLobeNormCase);
     add("albedo", runAlbedoCase);
     add("lobes", runLobesCase);
   }

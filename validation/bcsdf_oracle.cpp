@@ -99,6 +99,8 @@ namespace {
 
 double gaussian(double x, double beta) { return std::exp(-0.5 * x * x / (beta * beta)) / (std::sqrt(2.0 * kPi) * beta); }
 
+}  // namespace
+
 // Over the lobe's ±8β (the rest is below e^−32 of its peak), in panels of β/2.
 double lobeNorm(double beta, double thetaI) {
   const double a = std::max(-0.5 * kPi, -thetaI - 8.0 * beta), b = std::min(0.5 * kPi, -thetaI + 8.0 * beta);
@@ -108,6 +110,8 @@ double lobeNorm(double beta, double thetaI) {
   for (size_t k = 0; k < q.x.size(); ++k) z += q.w[k] * gaussian(q.x[k] + thetaI, beta) * std::cos(q.x[k]) * std::cos(q.x[k]);
   return z;
 }
+
+namespace {
 
 // θ = asin(ω·t); φ from the parts of ω_i and ω_o perpendicular to t.
 void localAngles(glm::dvec3 t, glm::dvec3 wi, glm::dvec3 wo, double& thetaI, double& thetaO, double& phi) {

@@ -50,6 +50,9 @@ struct Nodes {
 };
 Nodes panelNodes(double a, double b, std::vector<double> cuts, double maxPanel, int n);
 
+// Z(θ_i) = ∫_{−π/2}^{π/2} g(θ + θ_i; β) cos²θ dθ, Gauss–Legendre on panels of β/2.
+double lobeNorm(double beta, double thetaI);
+
 // Eq. 6 in full, per channel, at fiber-local angles: the Gaussian lobes
 // normalised by Z(θ_i) = ∫ g(θ + θ_i; β) cos²θ dθ over (−π/2, π/2) (by
 // quadrature here), N_R = 1/2π, N_TT the von Mises centred at π with

@@ -38,6 +38,7 @@ inline constexpr Fault kFaults[] = {
 inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
   if (define == "FT_FAULT_BCSDF_NORM_THETA_I") ftFaultBcsdfNormThetaI = on;
+  if (define == "FT_FAULT_LOBE_NORM_TEXEL_ANGLE") ftFaultLobeNormTexelAngle = on;
   if (define == "FT_FAULT_SHADING_COS_DROPPED") ftFaultShadingCosDropped = on;
   if (define == "FT_FAULT_SELF_SHADOW_SLICE_RANGE") ftFaultSelfShadowSliceRange = on;
   if (define == "FT_FAULT_SELF_SHADOW_PSI_SIGN") ftFaultSelfShadowPsiSign = on;

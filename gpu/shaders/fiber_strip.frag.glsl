@@ -30,6 +30,7 @@
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
 layout(std140, binding = FT_UBO_SHADING) uniform ShadingBlock { ShadingParams shading; };
 layout(std430, binding = FT_SSBO_AMBIENT_TABLE) readonly buffer AmbientTable { vec4 ambientTable[]; };
+layout(std430, binding = FT_SSBO_LOBE_NORM_TABLE) readonly buffer LobeNormTable { vec2 lobeNorm[]; };
 layout(std140, binding = FT_UBO_YARN_PARAMS) uniform YarnBlock { YarnParams yarn; };
 layout(std430, binding = FT_SSBO_CURVES) readonly buffer CurveBuffer { CurveInfo curves[]; };
 layout(std140, binding = FT_UBO_SELF_SHADOW) uniform SelfShadowBlock {
@@ -282,6 +283,21 @@ float shadowMapVisibility(int i, vec3 p) {
   return ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, t.x, t.y)]);
 }
 
+// Light i's direct term (common/fiber_shading.h) with the lobes' Z from the
+// table (common/bcsdf.h), not the quadrature the ground truth runs.
+vec3 directLight(int i, FiberHit h, vec3 v) {
+  FiberAngles a = ftFiberAngles(h.tangent, vec3(shading.lightDirection[i]), v);
+  float theta = ftLobeNormAngle(a), betaR = shading.fabric.colorR.w, betaTT = shading.fabric.colorTT.w;
+  vec4 r = ftLobeNormLookup(theta, betaR, FT_LOBE_NORM_TABLE_SIZE);
+  vec4 t = ftLobeNormLookup(theta, betaTT, FT_LOBE_NORM_TABLE_SIZE);
+  vec2 z = vec2(ftLobeNormFromTable(r, theta, betaR, lobeNorm[int(r.x)].x, lobeNorm[int(r.y)].x),
+                ftLobeNormFromTable(t, theta, betaTT, lobeNorm[int(t.x)].y, lobeNorm[int(t.y)].y));
+#ifdef FT_FAULT_FRAME_LOBE_NORM_SWAPPED
+  z = z.yx;  // each lobe normalised by the other's Z
+#endif
+  return ftFiberDirectNormed(shading, i, a, h.normal, z);
+}
+
 vec3 shadeFiber(FiberHit h) {
   vec3 v = normalize(view.cameraPos.xyz - h.position);
   vec3 radiance = vec3(0.0);
@@ -296,7 +312,7 @@ vec3 shadeFiber(FiberHit h) {
     visibility *= ambientVisibility;  // AO on the direct term too (000 Fig. 12d: it scales the ambient only)
 #endif
     if ((shading.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) visibility *= shadowMapVisibility(i, h.position);
-    radiance += ftFiberDirect(shading, i, h.tangent, h.normal, v) * visibility;
+    radiance += directLight(i, h, v) * visibility;
   }
   FiberAngles o = ftFiberAngles(h.tangent, v, v);
   vec3 k = ftAmbientLookup(o.thetaO, FT_AMBIENT_TABLE_SIZE);
