@@ -5,7 +5,8 @@
 //   for ply j in [0, n^ply):
 //     slot 0 = the ply's core fiber, slots 1..regularCount = regular fibers,
 //     outermost first (fiber-table row fiberCount - slot);
-//       for vertex v in [0, subdivisions]: t = v / subdivisions.
+//       for vertex v in [0, ftStripVertexCount): t = v / subdivisions for a
+//       regular fiber, v / coreLines for the core.
 // Segments follow each other in segment-table order.
 #ifndef FT_FIBER_GENERATION_H
 #define FT_FIBER_GENERATION_H
@@ -24,7 +25,15 @@ FT_FUNC uint ftSlotFiber(YarnParams p, uint slot) { return p.fiberCount - slot; 
 
 // Offset of (ply, slot, vertex) inside its segment's vertex range.
 FT_FUNC uint ftVertexOffset(SegmentDecision d, uint ply, uint slot, uint vertex) {
-  return (ply * ftSlotsPerPly(d) + slot) * (d.subdivisions + 1u) + vertex;
+  uint inPly = slot == 0u ? 0u : ftStripVertexCount(d, 0u) + (slot - 1u) * (d.subdivisions + 1u);
+  return ply * ftPlyVertexCount(d) + inPly + vertex;
+}
+
+// Offset of a strip's first index inside its segment's index range: its
+// vertices are preceded by those of the strips before it, each strip
+// followed by one restart index.
+FT_FUNC uint ftStripIndexOffset(SegmentDecision d, uint ply, uint slot) {
+  return ftVertexOffset(d, ply, slot, 0u) + ply * ftSlotsPerPly(d) + slot;
 }
 
 // Length coordinate at parameter t: linear between the knots' fixed values,
@@ -68,8 +77,9 @@ struct CachedFiberVertex {
   PeriodCache cache;
 };
 
-FT_FUNC YarnSample ftYarnSample(YarnSegment seg, SegmentDecision d, uint vertex) {
-  FT_PRECISE float t = float(vertex) / float(d.subdivisions);
+// The yarn at sample `sampleIndex` of the segment (t = ftSampleT).
+FT_FUNC YarnSample ftYarnSample(YarnSegment seg, SegmentDecision d, uint sampleIndex) {
+  FT_PRECISE float t = ftSampleT(d, sampleIndex);
   YarnFrame f = ftYarnFrameAt(seg, t);
   YarnSample ys;
   ys.centerLength = vec4(f.center, ftLengthAt(seg, t));
@@ -80,7 +90,8 @@ FT_FUNC YarnSample ftYarnSample(YarnSegment seg, SegmentDecision d, uint vertex)
 }
 
 // `fc` is the fiber-table row ftSlotFiber(p, slot) for a regular slot and is
-// ignored for the core (slot 0).
+// ignored for the core (slot 0); `ys` is the yarn at ftStripSample(d, slot,
+// vertex).
 FT_FUNC CachedFiberVertex ftFiberVertexAt(YarnParams p, TwistRates r, YarnSample ys, SegmentDecision d,
                                           uint yarn, uint segment, uint ply, uint slot, FiberCoord fc, uint vertex,
                                           PeriodCache cache) {
@@ -96,7 +107,7 @@ FT_FUNC CachedFiberVertex ftFiberVertexAt(YarnParams p, TwistRates r, YarnSample
   out_.vertex.id.x = yarn;
   out_.vertex.id.y = segment;
   if (slot == 0u) {  // the core fiber runs along the ply centre (§3.2)
-    FT_PRECISE float t = float(vertex) / float(d.subdivisions);
+    FT_PRECISE float t = ftSampleT(d, ftStripSample(d, slot, vertex));
     out_.vertex.position = vec4(f.center + pf.offset, mix(d.coreHalfWidth, d.coreHalfWidthEnd, t));
     out_.vertex.id.z = ftPackFiberId(ply, FT_CORE_FIBER_ID);
     out_.vertex.id.w = ftPackTypeVertex(FT_FIBER_CORE, vertex, 0u);
@@ -118,7 +129,8 @@ FT_FUNC CachedFiberVertex ftFiberVertexAt(YarnParams p, TwistRates r, YarnSample
 FT_FUNC CachedFiberVertex ftFiberVertexCached(YarnParams p, TwistRates r, YarnSegment seg, SegmentDecision d,
                                               uint yarn, uint segment, uint ply, uint slot, FiberCoord fc,
                                               uint vertex, PeriodCache cache) {
-  return ftFiberVertexAt(p, r, ftYarnSample(seg, d, vertex), d, yarn, segment, ply, slot, fc, vertex, cache);
+  return ftFiberVertexAt(p, r, ftYarnSample(seg, d, ftStripSample(d, slot, vertex)), d, yarn, segment, ply, slot, fc,
+                         vertex, cache);
 }
 
 // One vertex on its own (the tessellation evaluation shader's case).

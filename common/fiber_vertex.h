@@ -22,12 +22,39 @@ struct SegmentDecision {
   uint culled;           // 1: outside the view frustum, nothing generated
   uint vertexCount;      // vertices this segment emits
   float coreHalfWidthEnd;  // the same at t = 1; linear in between
-  uint pad1;
+  uint coreLines;        // line segments of the core strips (≤ subdivisions; lod.h)
 };
 FT_ASSERT_OFFSET(SegmentDecision, regularCount, 8)
 FT_ASSERT_OFFSET(SegmentDecision, vertexCount, 20)
 FT_ASSERT_OFFSET(SegmentDecision, coreHalfWidthEnd, 24)
+FT_ASSERT_OFFSET(SegmentDecision, coreLines, 28)
 FT_ASSERT_SIZE(SegmentDecision, 32)
+
+// Vertices of one strip of a segment: a regular fiber (slot > 0) has one per
+// line end t = v / subdivisions; the core (slot 0), which follows only the
+// ply centre, one per t = v / coreLines (lod.h ftDecideSegment).
+FT_FUNC uint ftStripVertexCount(SegmentDecision d, uint slot) {
+  return (slot == 0u ? d.coreLines : d.subdivisions) + 1u;
+}
+// The yarn samples of a segment (its frame and length coordinate, shared by
+// the strips): subdivisions + 1 for the regular fibers, then coreLines + 1
+// for the cores.
+FT_FUNC uint ftSampleCount(SegmentDecision d) { return d.subdivisions + d.coreLines + 2u; }
+// The sample of a strip's vertex.
+FT_FUNC uint ftStripSample(SegmentDecision d, uint slot, uint vertex) {
+  return slot == 0u ? d.subdivisions + 1u + vertex : vertex;
+}
+// The curve parameter of a sample.
+FT_FUNC float ftSampleT(SegmentDecision d, uint sampleIndex) {
+  FT_PRECISE float t;
+  if (sampleIndex <= d.subdivisions) t = float(sampleIndex) / float(d.subdivisions);
+  else t = float(sampleIndex - d.subdivisions - 1u) / float(d.coreLines);
+  return t;
+}
+// Vertices of one ply: its core strip, then regularCount regular strips.
+FT_FUNC uint ftPlyVertexCount(SegmentDecision d) {
+  return ftStripVertexCount(d, 0u) + d.regularCount * (d.subdivisions + 1u);
+}
 
 // glDrawElementsIndirect command, filled by the compute path.
 struct DrawElementsCommand {

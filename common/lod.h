@@ -62,7 +62,7 @@ FT_FUNC float ftCoreHalfWidthAt(YarnParams p, ViewParams v, vec3 knot) {
 
 FT_FUNC uint ftVertexCount(YarnParams p, SegmentDecision d) {
   if (d.culled != 0u) return 0u;
-  return p.plyCount * (1u + d.regularCount) * (d.subdivisions + 1u);
+  return p.plyCount * ftPlyVertexCount(d);
 }
 
 // Pixels per world unit at the segment: the largest over its Bézier points
@@ -96,7 +96,8 @@ FT_FUNC float ftLegAngle(vec3 a, vec3 b) {
 // screen only — not on λ of eq. 4, which decides how many fibers are drawn.
 // Twist rates are the preset's; closed curves round them by < ½ turn per
 // loop (fiber_geometry.h), which changes the bound by a fraction of a percent.
-FT_FUNC float ftSubdivisionEstimate(YarnParams p, ViewParams v, YarnSegment seg) {
+// `fibers` = 0 bounds the ply centre alone: the path of the core strip.
+FT_FUNC float ftSubdivisionBound(YarnParams p, ViewParams v, YarnSegment seg, bool fibers) {
   if (!(v.chordErrorPx > 0.0f)) return float(p.maxSubdivisions);  // 0: always the cap (full detail)
   vec3 b0 = vec3(seg.b0);
   vec3 b1 = vec3(seg.b1);
@@ -108,12 +109,23 @@ FT_FUNC float ftSubdivisionEstimate(YarnParams p, ViewParams v, YarnSegment seg)
   float wPly = FT_TWO_PI * p.plyTurnsPerLength * ds;
   float wFib = FT_TWO_PI * p.fiberTurnsPerLength * ds;
   float wMig = wFib * p.migrationS;
-  float rFib = max(p.ellipseN, p.ellipseB) * p.rhoMax;
+  float rFib = fibers ? max(p.ellipseN, p.ellipseB) * p.rhoMax : 0.0f;
   float aMig = 0.5f * (p.rhoMax - p.rhoMin) * rFib;
   FT_PRECISE float accel = centre + p.plyRadius * (wPly + turning) * (wPly + turning) +
                 rFib * (wPly + wFib + turning) * (wPly + wFib + turning) + aMig * wMig * wMig;
   FT_PRECISE float n = sqrt(accel * ftSegmentPixelsPerUnit(v, seg) / (8.0f * v.chordErrorPx));
   return n;
+}
+FT_FUNC float ftSubdivisionEstimate(YarnParams p, ViewParams v, YarnSegment seg) {
+  return ftSubdivisionBound(p, v, seg, true);
+}
+// The same bound for the core strip, which runs along the ply centre: no
+// fiber twist or migration term. Far away, where λ of eq. 4 leaves one or
+// two thin regular fibers per ply, those set the subdivisions, and the thick
+// cores drew lines shorter than a pixel, each of which the fragment stage
+// paid for several times (docs/shaded-frame.md).
+FT_FUNC float ftCoreSubdivisionEstimate(YarnParams p, ViewParams v, YarnSegment seg) {
+  return ftSubdivisionBound(p, v, seg, false);
 }
 
 // λ² scales the regular-fiber count and the core thickness (between the
@@ -132,12 +144,21 @@ FT_FUNC SegmentDecision ftDecideSegment(YarnParams p, ViewParams v, YarnSegment 
 #endif
   d.regularCount = min(p.regularFibers, uint(fibers));
   d.subdivisions = uint(clamp(subdiv, 1.0f, float(p.maxSubdivisions)));
+  // The core strip: its own bound, never more lines than the fibers'.
+#ifdef FT_FAULT_SUBDIVISIONS_LAMBDA
+  FT_PRECISE float coreSubdiv = ceil(scale * ftCoreSubdivisionEstimate(p, v, seg));
+#else
+  FT_PRECISE float coreSubdiv = ceil(ftCoreSubdivisionEstimate(p, v, seg));
+#endif
+#ifdef FT_FAULT_CORE_LINES_ONE
+  coreSubdiv = 1.0f;  // one line per core: its chord far off the ply's helix
+#endif
+  d.coreLines = uint(clamp(coreSubdiv, 1.0f, float(d.subdivisions)));
   d.coreHalfWidth = ftCoreHalfWidthAt(p, v, vec3(seg.b0));
   d.coreHalfWidthEnd = ftCoreHalfWidthAt(p, v, vec3(seg.b3));
   d.culled = (v.cullEnabled != 0u && ftSegmentOutsideFrustum(v, seg, p.boundRadius)) ? 1u : 0u;
   d.vertexCount = 0u;
   d.vertexCount = ftVertexCount(p, d);
-  d.pad1 = 0u;
   return d;
 }
 

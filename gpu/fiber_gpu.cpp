@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "common/fiber_generation.h"
 #include "gpu/shader_library.h"
 
 namespace ft {
@@ -261,8 +262,13 @@ size_t FiberGpu::captureTessellation() {
   // Size the capture from the GPU's own decisions (decide + scan passes); an
   // overflow is still detected below by comparing the two primitive queries.
   decideAndScan();
-  const DrawElementsCommand cmd = readDrawCommand();
-  const size_t lines = static_cast<size_t>(cmd.vertexTotal) - cmd.stripTotal;
+  // Every isoline has `subdivisions` lines, the core's too (its vertices past
+  // the last repeat it: fiber_tess.tese.glsl).
+  const std::vector<SegmentDecision> decisions = readDecisions();
+  size_t lines = 0;
+  for (size_t i = 0; i < listCount_; ++i)
+    if (!decisions[i].culled)
+      lines += size_t(params_.plyCount) * (1u + decisions[i].regularCount) * decisions[i].subdivisions;
   if (lines > xfbCapacityLines_ || !xfb_) {
     xfbCapacityLines_ = std::max<size_t>(lines, 1);
     replaceBuffer(xfb_, xfbCapacityLines_ * 2 * sizeof(FiberVertex));
@@ -288,8 +294,7 @@ size_t FiberGpu::captureTessellation() {
   // Rendering uses one instanced draw with the same shaders.
   constexpr size_t kCaptureLinesPerDraw = 16384;
   // Chunk boundaries from the GPU's own decisions (lines each listed segment
-  // emits in each instance block), read back once.
-  const std::vector<SegmentDecision> decisions = readDecisions();
+  // emits in each instance block).
   const uint32_t perPatch = linesPerPatch();
   glBindFramebuffer(GL_FRAMEBUFFER, captureFbo_.id());
   glEnable(GL_RASTERIZER_DISCARD);
@@ -394,11 +399,11 @@ void FiberGpu::drawVertices(std::span<const FiberVertex> vertices, std::span<con
   size_t base = 0;
   for (const SegmentDecision& d : decisions) {
     if (d.culled) continue;
-    const size_t strips = static_cast<size_t>(params_.plyCount) * (1u + d.regularCount);
-    for (size_t s = 0; s < strips; ++s) {
-      for (uint32_t v = 0; v <= d.subdivisions; ++v) indices.push_back(static_cast<uint32_t>(base++));
-      indices.push_back(FT_RESTART_INDEX);
-    }
+    for (uint32_t ply = 0; ply < params_.plyCount; ++ply)
+      for (uint32_t slot = 0; slot < ftSlotsPerPly(d); ++slot) {
+        for (uint32_t v = 0; v < ftStripVertexCount(d, slot); ++v) indices.push_back(static_cast<uint32_t>(base++));
+        indices.push_back(FT_RESTART_INDEX);
+      }
   }
   if (base != vertices.size())
     throw std::runtime_error(fmt::format("drawVertices: decisions describe {} vertices, stream has {}", base,

@@ -99,15 +99,15 @@ FiberGeometry generateFibersCpu(const FiberInput& input, std::span<const FrameNo
     const TwistRates rates = ftTwistRates(p, yarn.curves[ref.curve]);
     const FiberCoord none{0.0f, 0.0f};
     // Same two stages as the compute path: yarn samples once per segment, then fibers.
-    YarnSample samples[FT_MAX_SUBDIVISIONS + 1];
-    for (uint32_t v = 0; v <= d.subdivisions; ++v) samples[v] = ftYarnSample(seg, d, v);
+    YarnSample samples[2 * FT_MAX_SUBDIVISIONS + 2];  // the fibers' and the cores' (ftSampleCount)
+    for (uint32_t k = 0; k < ftSampleCount(d); ++k) samples[k] = ftYarnSample(seg, d, k);
     for (uint32_t ply = 0; ply < p.plyCount; ++ply)
       for (uint32_t slot = 0; slot < ftSlotsPerPly(d); ++slot) {
         const FiberCoord fc = slot == 0 ? none : table[ftSlotFiber(p, slot)];
         PeriodCache cache = ftEmptyPeriodCache();
-        for (uint32_t v = 0; v <= d.subdivisions; ++v) {
-          const CachedFiberVertex cv =
-              ftFiberVertexAt(p, rates, samples[v], d, ref.curve, segment, ply, slot, fc, v, cache);
+        for (uint32_t v = 0; v < ftStripVertexCount(d, slot); ++v) {
+          const CachedFiberVertex cv = ftFiberVertexAt(p, rates, samples[ftStripSample(d, slot, v)], d, ref.curve,
+                                                       segment, ply, slot, fc, v, cache);
           cache = cv.cache;
           out.vertices[offsets[i] + ftVertexOffset(d, ply, slot, v)] = cv.vertex;
         }

@@ -15,6 +15,8 @@
 #include <unordered_map>
 
 #include "common/constants.h"
+#include "common/fiber_generation.h"
+#include "common/lod.h"
 #include "reference/bcsdf_sampling.h"
 
 namespace ft {
@@ -132,14 +134,16 @@ void forEachLine(const FiberGeometry& g, const YarnParams& params, F&& line) {
   size_t base = 0, strip = 0;
   for (const SegmentDecision& d : g.decisions) {
     if (d.culled) continue;
-    const size_t strips = static_cast<size_t>(params.plyCount) * (1u + d.regularCount);
-    const size_t n = d.subdivisions + 1u;
-    if (base + strips * n > g.vertices.size())
+    if (base + ftVertexCount(params, d) > g.vertices.size())
       throw std::invalid_argument(fmt::format("FiberTraceScene: the decisions describe more than the {} vertices",
                                               g.vertices.size()));
-    for (size_t s = 0; s < strips; ++s, ++strip, base += n)
-      for (size_t i = base; i + 1 < base + n; ++i)
-        if (lineDrawn(g.vertices[i], g.vertices[i + 1])) line(i, strip);
+    for (uint32_t ply = 0; ply < params.plyCount; ++ply)
+      for (uint32_t slot = 0; slot < ftSlotsPerPly(d); ++slot, ++strip) {
+        const size_t n = ftStripVertexCount(d, slot);
+        for (size_t i = base; i + 1 < base + n; ++i)
+          if (lineDrawn(g.vertices[i], g.vertices[i + 1])) line(i, strip);
+        base += n;
+      }
   }
   if (base != g.vertices.size())
     throw std::invalid_argument(

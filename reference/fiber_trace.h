@@ -35,7 +35,7 @@ std::vector<glm::vec3> fiberStripTangents(std::span<const FiberVertex> vertices)
 // The fibers of one FiberGeometry as an Embree scene of round linear curves
 // (RAII over the RTCDevice and RTCScene; movable, not copyable). The drawn
 // lines are those of the GPU: per non-culled decision,
-// plyCount·(1 + regularCount) strips of subdivisions + 1 vertices, a line
+// plyCount·(1 + regularCount) strips of ftStripVertexCount vertices, a line
 // between consecutive vertices of a strip unless it crosses a hair's period
 // change (fiber_strip.geom.glsl) or has zero length. Each line is one curve
 // segment from position.xyz with radius position.w; consecutive lines of a

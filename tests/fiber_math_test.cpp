@@ -173,7 +173,7 @@ TEST(FiberGeometry, FibersAreContinuousAcrossSegmentsAndSeams) {
   const SceneData& s = defaultSetup();
   std::vector<FiberCoord> table;
   const YarnParams p = paramsFor("cotton1", &table);
-  SegmentDecision d{1.0f, 0.01f, p.regularFibers, 4, 0, 0, 0, 0};
+  SegmentDecision d{1.0f, 0.01f, p.regularFibers, 4, 0, 0, 0, 4};  // 4 lines for the fibers and the cores
   for (size_t ci = 0; ci < s.buffers.curves.size(); ++ci) {
     const CurveInfo& c = s.buffers.curves[ci];
     const TwistRates r = ftTwistRates(p, c);
@@ -475,6 +475,32 @@ TEST(Lod, SubdivisionBoundAsDocumented) {
               1.0 / std::sqrt(2.0), 1e-5);
   // ε = 0: always the cap.
   EXPECT_EQ(ftSubdivisionEstimate(p, makeViewParams(cam, 1.0f, false, false, 0.0f), bent), 64.0f);
+
+  // The core strip runs along the ply centre: the bound without the fiber
+  // terms, |x''| ≤ |c''| + R_ply (ω_ply + Θ)².
+  auto expectedCore = [&](double centre, double turning, double ds) {
+    const double wPly = 2.0 * M_PI * 2.0 * ds;
+    return std::sqrt((centre + 0.02 * (wPly + turning) * (wPly + turning)) * ppu / (8.0 * 0.25));
+  };
+  EXPECT_NEAR(ftCoreSubdivisionEstimate(p, v, straight) / expectedCore(0.0, 0.0, 0.375), 1.0, 1e-5);
+  EXPECT_NEAR(ftCoreSubdivisionEstimate(p, v, bent) / expectedCore(0.6, M_PI / 2.0, 0.25), 1.0, 1e-5);
+  EXPECT_EQ(ftCoreSubdivisionEstimate(p, makeViewParams(cam, 1.0f, false, false, 0.0f), bent), 64.0f);
+  // The decision draws the core with ⌈its own bound⌉ lines, at least 1 and
+  // never more than the fibers' subdivisions.
+  p.fiberCount = 8;
+  p.regularFibers = 4;
+  for (const YarnSegment& seg : {straight, bent})
+    for (float z : {2.0f, 5.0f, 40.0f}) {
+      Camera c = cam;
+      c.eye.z = z;
+      const ViewParams w = makeViewParams(c, 1.0f, false, false, 0.25f);
+      const SegmentDecision d = ftDecideSegment(p, w, seg);
+      const double core = std::ceil(double(ftCoreSubdivisionEstimate(p, w, seg)));
+      EXPECT_EQ(d.coreLines, uint32_t(std::clamp(core, 1.0, double(d.subdivisions)))) << z;
+      EXPECT_GE(d.coreLines, 1u);
+      EXPECT_LE(d.coreLines, d.subdivisions);
+      EXPECT_EQ(d.vertexCount, p.plyCount * ((d.coreLines + 1u) + d.regularCount * (d.subdivisions + 1u)));
+    }
 }
 
 // Culling is conservative: no fiber point of a culled segment is inside the

@@ -35,7 +35,7 @@ TEST(FiberReference, CanonicalOrderAndDeterminism) {
     culled += d.culled;
     for (uint32_t ply = 0; d.culled == 0 && ply < params.plyCount; ++ply)
       for (uint32_t slot = 0; slot < ftSlotsPerPly(d); ++slot)
-        for (uint32_t v = 0; v <= d.subdivisions; ++v, ++at) {
+        for (uint32_t v = 0; v < ftStripVertexCount(d, slot); ++v, ++at) {
           const FiberVertex& fv = a.vertices.at(at);
           ASSERT_EQ(fv.id.y, a.segments[i]);
           ASSERT_EQ(fv.id.z >> 16, ply);

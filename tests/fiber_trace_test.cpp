@@ -64,6 +64,7 @@ FiberGeometry makeGeometry(const std::vector<Strip>& strips) {
     const Strip& st = strips[s];
     SegmentDecision d{};
     d.subdivisions = static_cast<uint32_t>(st.points.size()) - 1;
+    d.coreLines = d.subdivisions;  // the one strip is slot 0
     d.vertexCount = static_cast<uint32_t>(st.points.size());
     const uint32_t segment = st.segment < 0 ? s : static_cast<uint32_t>(st.segment);
     g.segments.push_back(segment);

@@ -50,7 +50,7 @@ namespace {
 #define FT_FIBER_VERTEX_MEMBERS(X) X(position) X(id)
 #define FT_SEGMENT_DECISION_MEMBERS(X) \
   X(lambda) X(coreHalfWidth) X(regularCount) X(subdivisions) X(culled) X(vertexCount) X(coreHalfWidthEnd) \
-  X(pad1)
+  X(coreLines)
 #define FT_DRAW_ELEMENTS_COMMAND_MEMBERS(X) \
   X(count) X(instanceCount) X(firstIndex) X(baseVertex) X(baseInstance) X(vertexTotal) X(stripTotal) \
   X(sampleTotal)

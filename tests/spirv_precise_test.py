@@ -28,8 +28,9 @@ REQUIRED = {
     ("ftPeriodPhase", "scaled"): "fiber_geometry.h: flyaway cell index",
     ("ftFiberPosition", "fiberTurns"): "fiber_geometry.h: fiber twist phase",
     ("ftLengthAt", "s"): "fiber_generation.h: length coordinate of a vertex",
-    ("ftSubdivisionEstimate", "accel"): "lod.h: curvature bound of the subdivisions",
-    ("ftSubdivisionEstimate", "n"): "lod.h: subdivision estimate",
+    ("ftSampleT", "t"): "fiber_vertex.h: curve parameter of a yarn sample",
+    ("ftSubdivisionBound", "accel"): "lod.h: curvature bound of the subdivisions",
+    ("ftSubdivisionBound", "n"): "lod.h: subdivision estimate",
     ("ftDecideSegment", "scale"): "lod.h: λ² of eq. 4",
     ("ftDecideSegment", "fibers"): "lod.h: fibers drawn",
 }

@@ -239,13 +239,19 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
     const uint32_t sgm = st.segment;
     const auto dit = decisions.find(sgm);
     if (dit == decisions.end()) throw std::runtime_error(fmt::format("GPU drew segment {} outside the list", sgm));
-    // The path's own subdivisions (what it drew), vertices 0..n.
+    const uint32_t ply = st.plyFiber >> 16u, fiber = st.plyFiber & 0xFFFFu;
+    const bool core = fiber == FT_CORE_FIBER_ID;
+    const uint32_t slot = core ? 0u : p.fiberCount - fiber;
+    // The path's own lines (what it drew): vertices 0..m at t = j/m (the
+    // subdivisions for a regular fiber, the core's own coreLines for the core,
+    // whose chords must meet the same target by the core's own bound).
     SegmentDecision d = dit->second;
-    d.subdivisions = static_cast<uint32_t>(st.vertices.size()) - 1u;
-    if (st.vertices.rbegin()->first != d.subdivisions || d.subdivisions == 0)
+    const uint32_t m = static_cast<uint32_t>(st.vertices.size()) - 1u;
+    if (st.vertices.rbegin()->first != m || m == 0)
       throw std::runtime_error(fmt::format("segment {} fiber {:#x}: vertex indices are not 0..n", sgm, st.plyFiber));
-    subdivSum += d.subdivisions;
-    subdivMax = std::max(subdivMax, d.subdivisions);
+    (core ? d.coreLines : d.subdivisions) = m;
+    subdivSum += m;
+    subdivMax = std::max(subdivMax, m);
     ++stripCount;
     // A segment at the --subdivisions cap (one that passes right by the
     // camera) cannot meet the chord target: counted, not measured.
@@ -256,25 +262,22 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
     const YarnSegment seg = loadSegmentCpu(y, frames, sgm);
     const uint32_t curve = y.segments[sgm].curve;
     const TwistRates rates = ftTwistRates(p, y.curves[curve]);
-    const uint32_t ply = st.plyFiber >> 16u, fiber = st.plyFiber & 0xFFFFu;
-    const bool core = fiber == FT_CORE_FIBER_ID;
-    const uint32_t slot = core ? 0u : p.fiberCount - fiber;
     const FiberCoord fc = core ? FiberCoord{0.0f, 0.0f} : s.table[fiber];
     SegmentDecision d4 = d;
     d4.subdivisions = 4u * d.subdivisions;
+    d4.coreLines = 4u * d.coreLines;  // vertex 4j + q is the quarter point q of chord j
 
     // The chords and vertices that touch a cusp knot of the model.
-    const uint32_t n = d.subdivisions;
-    auto cuspChord = [&](uint32_t j) { return cusps.folded(sgm, double(j) / n, double(j + 1u) / n); };
+    auto cuspChord = [&](uint32_t j) { return cusps.folded(sgm, double(j) / m, double(j + 1u) / m); };
     auto cuspVertex = [&](uint32_t j) { return cuspChord(j - 1u) || cuspChord(j); };
-    std::vector<ProjectedPoint> proj(d.subdivisions + 1u);
-    for (uint32_t j = 0; j <= d.subdivisions; ++j)
+    std::vector<ProjectedPoint> proj(m + 1u);
+    for (uint32_t j = 0; j <= m; ++j)
       proj[j] = project(view, width, height, glm::vec3(st.vertices.at(j).position));
 
     // Chord error against the exact curve at the quarter points of each
     // chord: the shared vertex function at 4× the subdivisions (a pure
     // function of t, so these are points of the same curve).
-    for (uint32_t j = 0; j < d.subdivisions; ++j) {
+    for (uint32_t j = 0; j < m; ++j) {
       const FiberVertex &a = st.vertices.at(j), &b = st.vertices.at(j + 1);
       if (hairBreak(a.id, b.id) || !proj[j].visible || !proj[j + 1].visible) continue;
       // A hair's free end and the point where it rejoins its period are
@@ -297,18 +300,18 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
           chordHairMax = maxKeepNaN(chordHairMax, err);
         } else if (cuspChord(j)) {
           if (err > chordCuspMax)
-            cuspWorst = fmt::format("at a model cusp (reported apart): segment {} chord {}/{}: {:.3f} px\n", sgm, j, n, err);
+            cuspWorst = fmt::format("at a model cusp (reported apart): segment {} chord {}/{}: {:.3f} px\n", sgm, j, m, err);
           chordCuspMax = maxKeepNaN(chordCuspMax, err);
         } else if (!(err <= chordMax)) {
           chordMax = maxKeepNaN(chordMax, err);
           worst = fmt::format("chord: segment {} ply {} fiber {} type {} chord {}/{}: {:.3f} px\n", sgm, ply, fiber,
-                              a.id.w & 0xFFu, j, d.subdivisions, err);
+                              a.id.w & 0xFFu, j, m, err);
         }
       }
     }
     // Kinks at the interior vertices, and at the knot joining this strip's
     // last vertex to the next segment's first (same curve, same fiber).
-    for (uint32_t j = 1; j < d.subdivisions; ++j) {
+    for (uint32_t j = 1; j < m; ++j) {
       const FiberVertex &a = st.vertices.at(j - 1), &b = st.vertices.at(j), &c = st.vertices.at(j + 1);
       if (hairBreak(a.id, b.id) || hairBreak(b.id, c.id)) continue;
       if (((a.id.w | b.id.w | c.id.w) & 0xFFu) == FT_FIBER_HAIR || (b.id.w & 0xFFu) == FT_FIBER_HAIR) continue;
@@ -335,16 +338,16 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
       const auto nit = strips.find({next, st.plyFiber});
       if (nit != strips.end() && nit->second.vertices.size() >= 2 &&
           nit->second.vertices.size() <= p.maxSubdivisions) {
-        const FiberVertex &a = st.vertices.at(d.subdivisions - 1), &b = st.vertices.at(d.subdivisions);
+        const FiberVertex &a = st.vertices.at(m - 1), &b = st.vertices.at(m);
         const FiberVertex &c = nit->second.vertices.at(1);
         const ProjectedPoint pc = project(view, width, height, glm::vec3(c.position));
         const bool hair = (a.id.w & 0xFFu) == FT_FIBER_HAIR || (b.id.w & 0xFFu) == FT_FIBER_HAIR ||
                           (c.id.w & 0xFFu) == FT_FIBER_HAIR;
         if (!hair && !hairBreak(a.id, b.id) && !hairBreak(b.id, nit->second.vertices.at(0).id) &&
-            !hairBreak(nit->second.vertices.at(0).id, c.id) && proj[d.subdivisions - 1].visible &&
-            proj[d.subdivisions].visible && pc.visible) {
+            !hairBreak(nit->second.vertices.at(0).id, c.id) && proj[m - 1].visible &&
+            proj[m].visible && pc.visible) {
           double turn = 0.0;
-          const double k = kinkAt(proj[d.subdivisions - 1], proj[d.subdivisions], pc, turn);
+          const double k = kinkAt(proj[m - 1], proj[m], pc, turn);
           ++knotJoints;
           if (cusps.folded(sgm, 1.0, 1.0) || cusps.folded(next, 0.0, 0.0)) {  // a knot on a fold
             ++cuspJoints;
@@ -359,7 +362,7 @@ CaseResult runCloseupCase(ValidationContext& ctx, const YarnPreset& preset, bool
               worst += fmt::format("kink at knot: segment {} → {} ply {} fiber {} types {} {} {}: {:.3f} px, {:.1f}°, "
                                    "subdivisions {} / {}\n",
                                    sgm, next, ply, fiber, a.id.w & 0xFFu, b.id.w & 0xFFu, c.id.w & 0xFFu, k, turn,
-                                   d.subdivisions, nit->second.vertices.size() - 1);
+                                   m, nit->second.vertices.size() - 1);
           }
         }
       }

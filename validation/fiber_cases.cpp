@@ -83,6 +83,8 @@ bool decisionAmbiguous(const YarnParams& p, const ViewParams& v, const YarnSegme
     return true;
   const double subdiv = ftSubdivisionEstimate(p, v, seg);
   if (subdiv < p.maxSubdivisions && nearInteger(subdiv)) return true;
+  const double coreSubdiv = ftCoreSubdivisionEstimate(p, v, seg);
+  if (coreSubdiv < p.maxSubdivisions && nearInteger(coreSubdiv)) return true;
   const glm::vec2 w = ftScreenWidths(p, v, seg);
   auto near = [&](double a, double b) { return std::abs(a - b) <= band * std::max(std::abs(a), std::abs(b)); };
   if (near(v.lodThresholdPx, w.x) || near(v.lodThresholdPx, w.y)) return true;
@@ -225,18 +227,21 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
       lambdaMax = maxKeepNaN(lambdaMax, static_cast<double>(std::abs(c.lambda - g.lambda)));
       if (ambiguous.count(cpu.geometry.segments[i])) continue;
       if (c.culled != g.culled || c.regularCount != g.regularCount || c.subdivisions != g.subdivisions ||
-          c.vertexCount != g.vertexCount)
+          c.coreLines != g.coreLines || c.vertexCount != g.vertexCount)
         noteDecision(cpu.geometry.segments[i],
-                     fmt::format("CPU culled {} fibers {} subdiv {} / GPU culled {} fibers {} subdiv {}", c.culled,
-                                 c.regularCount, c.subdivisions, g.culled, g.regularCount, g.subdivisions));
+                     fmt::format("CPU culled {} fibers {} subdiv {} core {} / GPU culled {} fibers {} subdiv {} core {}",
+                                 c.culled, c.regularCount, c.subdivisions, c.coreLines, g.culled, g.regularCount,
+                                 g.subdivisions, g.coreLines));
     }
   } else {
-    struct Seen { std::set<uint32_t> strands; uint32_t maxVertex = 0; };
+    // The last vertex of the regular strands and of the core strands.
+    struct Seen { std::set<uint32_t> strands; uint32_t maxVertex = 0, maxCoreVertex = 0; };
     std::unordered_map<uint32_t, Seen> seen;
     for (const FiberVertex& v : gpuVertices) {
       Seen& s = seen[v.id.y];
       s.strands.insert(v.id.z);
-      s.maxVertex = std::max(s.maxVertex, (v.id.w >> 8) & 0xFFu);
+      uint32_t& m = (v.id.z & 0xFFFFu) == FT_CORE_FIBER_ID ? s.maxCoreVertex : s.maxVertex;
+      m = std::max(m, (v.id.w >> 8) & 0xFFu);
     }
     for (size_t i = 0; i < cpu.geometry.segments.size(); ++i) {
       const uint32_t s = cpu.geometry.segments[i];
@@ -247,10 +252,11 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
       if (gpuCulled != (c.culled != 0u)) {
         noteDecision(s, fmt::format("CPU culled {} / GPU emitted {}", c.culled, gpuCulled ? "nothing" : "fibers"));
       } else if (!gpuCulled && (it->second.strands.size() != params.plyCount * (1u + c.regularCount) ||
-                                it->second.maxVertex != c.subdivisions)) {
-        noteDecision(s, fmt::format("CPU {} strands × {} subdiv / GPU {} strands × {} subdiv",
-                                    params.plyCount * (1u + c.regularCount), c.subdivisions,
-                                    it->second.strands.size(), it->second.maxVertex));
+                                (c.regularCount > 0u && it->second.maxVertex != c.subdivisions) ||
+                                it->second.maxCoreVertex != c.coreLines)) {
+        noteDecision(s, fmt::format("CPU {} strands × {} subdiv, cores {} / GPU {} strands × {} subdiv, cores {}",
+                                    params.plyCount * (1u + c.regularCount), c.subdivisions, c.coreLines,
+                                    it->second.strands.size(), it->second.maxVertex, it->second.maxCoreVertex));
       }
     }
     for (const auto& [s, unused] : seen)

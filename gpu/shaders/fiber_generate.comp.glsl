@@ -31,18 +31,19 @@ void main() {
   TwistRates rates = ftTwistRates(yarn, curves[ref.curve]);
   FiberCoord fc = slotFiberCoord(slot);
   uint vertexBase = offsets[i].x + ftVertexOffset(d, ply, slot, 0u);
-  uint indexBase = offsets[i].y + strip * (d.subdivisions + 2u);
+  uint indexBase = offsets[i].y + ftStripIndexOffset(d, ply, slot);
+  uint last = ftStripVertexCount(d, slot) - 1u;
   PeriodCache cache = ftEmptyPeriodCache();
-  for (uint v = 0u; v <= d.subdivisions; ++v) {
-    CachedFiberVertex cv =
-        ftFiberVertexAt(yarn, rates, samples[sampleBase + v], d, ref.curve, segment, ply, slot, fc, v, cache);
+  for (uint v = 0u; v <= last; ++v) {
+    CachedFiberVertex cv = ftFiberVertexAt(yarn, rates, samples[sampleBase + ftStripSample(d, slot, v)], d, ref.curve,
+                                           segment, ply, slot, fc, v, cache);
     cache = cv.cache;
     vertices[vertexBase + v] = cv.vertex;
     indices[indexBase + v] = vertexBase + v;
   }
 #ifdef FT_FAULT_RESTART_DROPPED
-  indices[indexBase + d.subdivisions + 1u] = vertexBase + d.subdivisions;  // the next strip joins on
+  indices[indexBase + last + 1u] = vertexBase + last;  // the next strip joins on
 #else
-  indices[indexBase + d.subdivisions + 1u] = FT_RESTART_INDEX;
+  indices[indexBase + last + 1u] = FT_RESTART_INDEX;
 #endif
 }

@@ -19,5 +19,5 @@ void main() {
   if (d.culled != 0u) return;
   uint strips = yarn.plyCount * (1u + d.regularCount);
   for (uint k = 0u; k < strips; ++k) stripOwner[offsets[i].z + k] = i;
-  for (uint k = 0u; k <= d.subdivisions; ++k) sampleOwner[offsets[i].w + k] = i;
+  for (uint k = 0u; k < ftSampleCount(d); ++k) sampleOwner[offsets[i].w + k] = i;
 }

@@ -18,10 +18,10 @@ shared uvec4 partial[FT_WG_SCAN];
 
 uvec4 counts(uint i) {
   SegmentDecision d = decisions[i];
-  // One restart index after each fiber strip.
+  // Indices: the vertices and one restart index after each fiber strip.
   uint strips = d.culled != 0u ? 0u : yarn.plyCount * (1u + d.regularCount);
-  uint samples = d.culled != 0u ? 0u : d.subdivisions + 1u;
-  return uvec4(d.vertexCount, strips * (d.subdivisions + 2u), strips, samples);
+  uint samples = d.culled != 0u ? 0u : ftSampleCount(d);
+  return uvec4(d.vertexCount, d.vertexCount + strips, strips, samples);
 }
 
 void main() {

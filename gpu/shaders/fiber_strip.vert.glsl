@@ -11,6 +11,7 @@ layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view
 layout(std430, binding = FT_SSBO_VERTICES) readonly buffer VertexBuffer { FiberVertex vertices[]; };
 layout(std430, binding = FT_SSBO_OFFSETS) readonly buffer OffsetBuffer { uvec4 offsets[]; };  // (vertex, index, strip, sample)
 layout(std430, binding = FT_SSBO_SAMPLES) readonly buffer SampleBuffer { YarnSample samples[]; };
+layout(std430, binding = FT_SSBO_DECISIONS) readonly buffer DecisionBuffer { SegmentDecision decisions[]; };
 uniform uint vertexTotal;  // vertices written; the buffer may be longer
 uniform uint listCount;    // listed segments; 0: no yarn samples (a foreign vertex stream)
 
@@ -26,15 +27,16 @@ layout(location = 6) out vec3 yarnBinormal;
 
 // The yarn sample of vertex i: its segment is the last listed one whose
 // vertices start at or before i (offsets[].x ascends), its sample that
-// segment's first plus the vertex index along it.
-YarnSample yarnSampleOf(uint i, uint vertexIndex) {
+// segment's first plus ftStripSample of the vertex index along it (the
+// cores have samples of their own).
+YarnSample yarnSampleOf(uint i, uint vertexIndex, bool core) {
   uint lo = 0u, hi = listCount - 1u;
   while (lo < hi) {
     uint mid = (lo + hi + 1u) / 2u;
     if (offsets[mid].x <= i) lo = mid;
     else hi = mid - 1u;
   }
-  return samples[offsets[lo].w + vertexIndex];
+  return samples[offsets[lo].w + ftStripSample(decisions[lo], core ? 0u : 1u, vertexIndex)];
 }
 
 void main() {
@@ -52,7 +54,7 @@ void main() {
   fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
   fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
   if (listCount > 0u) {
-    YarnSample ys = yarnSampleOf(uint(i), (v.id.w >> 8u) & 0xFFu);
+    YarnSample ys = yarnSampleOf(uint(i), (v.id.w >> 8u) & 0xFFu, (v.id.w & 0xFFu) == FT_FIBER_CORE);
     yarnCenterLength = ys.centerLength;
     yarnNormal = ys.normal.xyz;
     yarnBinormal = ys.binormal.xyz;

@@ -11,7 +11,7 @@ layout(location = 0) patch out vec4 pB[4];
 layout(location = 4) patch out vec4 pN[2];
 layout(location = 6) patch out vec4 pLength;       // s0, s1
 layout(location = 7) patch out uvec4 pIds;         // curve, segment, first slot, slots per ply
-layout(location = 8) patch out vec4 pDecision;     // λ, core half-width at t = 0 and t = 1
+layout(location = 8) patch out vec4 pDecision;     // λ, core half-width at t = 0 and t = 1, core lines
 layout(location = 9) patch out uvec4 pDecisionU;   // regular count, subdivisions, culled, vertex count
 
 uniform uint linesPerPatch;
@@ -30,7 +30,7 @@ void main() {
   pN[0] = seg.n0; pN[1] = seg.n1;
   pLength = vec4(seg.s0, seg.s1, 0.0, 0.0);
   pIds = uvec4(segmentRefs[segment].curve, segment, first, ftSlotsPerPly(d));
-  pDecision = vec4(d.lambda, d.coreHalfWidth, d.coreHalfWidthEnd, 0.0);
+  pDecision = vec4(d.lambda, d.coreHalfWidth, d.coreHalfWidthEnd, float(d.coreLines));  // ≤ 64: exact
   pDecisionU = uvec4(d.regularCount, d.subdivisions, d.culled, d.vertexCount);
 
   // A zero outer level discards the patch.

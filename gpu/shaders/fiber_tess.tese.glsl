@@ -40,7 +40,7 @@ void main() {
   d.subdivisions = pDecisionU.y;
   d.culled = pDecisionU.z;
   d.vertexCount = pDecisionU.w;
-  d.pad1 = 0u;
+  d.coreLines = uint(pDecision.w);
 
   // Line k of n sits at y = k/n; vertex j of S at x = j/S. Round, then
   // recompute t from the integers so t is bit-identical to the CPU's.
@@ -49,6 +49,11 @@ void main() {
   uint strip = pIds.z + line;
   uint ply = strip / pIds.w;
   uint slot = strip % pIds.w;
+  // The isoline has subdivisions + 1 vertices; a core strip has fewer
+  // (ftStripVertexCount): the rest repeat its last, and the geometry stage
+  // drops the empty lines between them.
+  uint last = ftStripVertexCount(d, slot) - 1u;
+  vertex = min(vertex, last);
   uint curve = pIds.x;
   TwistRates rates = ftTwistRates(yarn, curves[curve]);
   FiberVertex fv = ftFiberVertex(yarn, rates, seg, d, curve, pIds.y, ply, slot, slotFiberCoord(slot), vertex);
@@ -62,15 +67,15 @@ void main() {
     has[k + 2] = false;
     p[k + 2] = fv.position.xyz;
     // ±2 only where the other side is missing (ftStripTangent reads it then).
-    bool needed = k == -1 || k == 1 || (k == -2 && vertex + 1u > d.subdivisions) || (k == 2 && vertex == 0u);
-    if (k == 0 || !needed || j < 0 || j > int(d.subdivisions)) continue;
+    bool needed = k == -1 || k == 1 || (k == -2 && vertex + 1u > last) || (k == 2 && vertex == 0u);
+    if (k == 0 || !needed || j < 0 || j > int(last)) continue;
     FiberVertex nv = ftFiberVertex(yarn, rates, seg, d, curve, pIds.y, ply, slot, slotFiberCoord(slot), uint(j));
     has[k + 2] = ftStripNeighbour(fv.id, nv.id, k);
     p[k + 2] = nv.position.xyz;
   }
   fiberTangent = ftStripTangent(p[0], p[1], p[2], p[3], p[4], bvec4(has[0], has[1], has[3], has[4]));
   fiberStripEnd = (has[1] && has[3]) ? 0.0 : 1.0;
-  YarnSample ys = ftYarnSample(seg, d, vertex);
+  YarnSample ys = ftYarnSample(seg, d, ftStripSample(d, slot, vertex));
   yarnCenterLength = ys.centerLength;
   yarnNormal = ys.normal.xyz;
   yarnBinormal = ys.binormal.xyz;
