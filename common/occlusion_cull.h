@@ -94,11 +94,7 @@ FT_FUNC float ftNearestWindowDepth(ViewParams v, vec3 p, float reach) {
 // finer the level, the more lines a partly covered neighbourhood still hides
 // (4 × 4 at level k against 2 × 2 at level k + 1).
 #define FT_OCCLUSION_SPAN 4u
-// An occluder rectangle narrower than this on screen is not drawn: the four
-// multisample positions of a pixel span 0.56 px in every direction, so it
-// cannot cover a pixel on its own, and the far view's thin fibers made the
-// occluder pass 0.3 s slower for nothing (docs/shaded-frame.md).
-#define FT_OCCLUDER_MIN_WIDTH_PX 0.5
+
 FT_FUNC uint ftOcclusionLevelFor(OcclusionPyramid p, uvec2 lo, uvec2 hi) {
   uint k = 0u;
   while (k + 1u < p.size.z && (((hi.x >> k) - (lo.x >> k)) >= FT_OCCLUSION_SPAN ||

@@ -1,6 +1,7 @@
 #include "gpu/fiber_gpu.h"
 
 #include <algorithm>
+#include <atomic>
 #include <fmt/format.h>
 #include <stdexcept>
 
@@ -96,6 +97,8 @@ void FiberGpu::bindCommon() const {
 }
 
 void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fiberTable) {
+  static std::atomic<uint64_t> versions{0};
+  modelVersion_ = ++versions;
   replaceBuffer(points_, yarn.points.size() * sizeof(ControlPoint), yarn.points.data());
   replaceBuffer(curves_, yarn.curves.size() * sizeof(CurveInfo), yarn.curves.data());
   replaceBuffer(segments_, yarn.segments.size() * sizeof(SegmentRef), yarn.segments.data());

@@ -52,6 +52,9 @@ class FiberGpu {
 
   // Uploads the procedural input and computes the knot frames on the GPU.
   void setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fiberTable);
+  // Changes with every setModel, unique across FiberGpu objects: what a
+  // renderer keys view-independent results (the yarn shadow map) on.
+  uint64_t modelVersion() const { return modelVersion_; }
   void setParams(const YarnParams& params, const ViewParams& view);
   // Segments to generate, in order; empty = every segment.
   void setSegmentList(std::span<const uint32_t> segments);
@@ -123,6 +126,7 @@ class FiberGpu {
   Buffer decisions_, offsets_, samples_, stripOwners_, sampleOwners_, vertices_, indices_, draw_, xfb_;
   glm::vec3 boundsMin_{0.0f}, boundsMax_{0.0f};
   size_t curveCount_ = 0, segmentCount_ = 0, knotCount_ = 0, listCount_ = 0, inputBytes_ = 0;
+  uint64_t modelVersion_ = 0;
   size_t pendingStrips_ = 0, pendingSamples_ = 0, sampleCapacity_ = 0, stripCapacity_ = 0, vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;
   YarnParams params_{};
 };

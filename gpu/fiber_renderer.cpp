@@ -63,7 +63,10 @@ struct MultisampleTarget {
   }
 };
 
-FiberRenderer::FiberRenderer(const GlInfo&, std::vector<std::string> defines) : defines_(std::move(defines)) {}
+FiberRenderer::FiberRenderer(const GlInfo&, std::vector<std::string> defines)
+    : defines_(std::move(defines)),
+      // Planted fault (validation/faults.def) of the renderer's own C++: the map kept across setModel.
+      faultShadowMapStale_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_SHADOW_MAP_STALE") != defines_.end()) {}
 
 FiberRenderer::~FiberRenderer() = default;
 
@@ -85,6 +88,7 @@ GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass 
 void FiberRenderer::setShading(const ShadingInputs& inputs) {
   checkShadingInputs(inputs);
   inputs_ = inputs;
+  ++inputsVersion_;
   shadingUbo_ = makeBuffer(sizeof(ShadingParams), &inputs.params);
   std::vector<glm::vec4> texels;
   for (const glm::vec3& a : inputs.ambientTable) texels.emplace_back(a, 0.0f);
@@ -134,6 +138,8 @@ void FiberRenderer::drawShadowMap(FiberGpu& fibers) {
   m.tube = glm::vec4(w, inputs_.density.plyRadius, FT_SHADOW_MAP_BIAS_TEXELS, 0.0f);
   m.count = glm::uvec4(uint32_t(lights), n, 0u, 0u);
   shadowParams_ = m;
+  shadowModel_ = fibers.modelVersion();
+  shadowInputs_ = inputsVersion_;
   if (!shadowUbo_) shadowUbo_ = makeBuffer(sizeof(ShadowMapParams), nullptr);
   shadowUbo_.update(&m, sizeof(m));
 
@@ -297,7 +303,10 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   double building = 0;
   const GLuint prog = program(fibers, path);
   phase(building);  // a program's first build is not a phase of the frame
-  if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) drawShadowMap(fibers);
+  if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u &&
+      ((shadowModel_ != fibers.modelVersion() && !faultShadowMapStale_) || shadowInputs_ != inputsVersion_ ||
+       !shadowTexels_))
+    drawShadowMap(fibers);
   if (timings) phase(timings->shadowMapMs);
   fibers.prepareDraw(path);
   if (timings) phase(timings->generateMs);

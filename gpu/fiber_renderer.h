@@ -40,7 +40,7 @@ struct RenderStyle {
 // glFinish and is timed on the CPU's steady clock (llvmpipe's timer queries
 // are CPU timestamps anyway, docs/llvmpipe-notes.md).
 struct FrameTimings {
-  double shadowMapMs = 0;   // the yarn shadow map's depth pass and copy (0 when off)
+  double shadowMapMs = 0;   // the yarn shadow map's depth pass and copy (0 when off, or kept from an earlier frame)
   double generateMs = 0;    // fiber generation (compute path; the tessellation path generates while drawing)
   double depthMs = 0;       // the depth pre-pass (capsule coverage and depth only)
   double shadeMs = 0;       // the shaded pass over the visible capsules
@@ -86,6 +86,9 @@ class FiberRenderer {
   // model's bounds. draw() calls it when FT_APPEARANCE_SHADOW_MAP is set; the
   // harness and the bench call it directly. Then shadowMapParams() and
   // readShadowMap() (float[lights][N][N], rows bottom-up) describe the map.
+  // The map does not depend on the camera: draw() redraws it only when the
+  // shading inputs (lights, W, N) or `fibers`' model changed since it was
+  // drawn (FiberGpu::modelVersion), so a camera move keeps it.
   void drawShadowMap(FiberGpu& fibers);
   const ShadowMapParams& shadowMapParams() const { return shadowParams_; }
   std::vector<float> readShadowMap() const;
@@ -128,6 +131,10 @@ class FiberRenderer {
   VertexArray shadowVao_;
   Buffer shadowUbo_, shadowTexels_;
   ShadowMapParams shadowParams_{};
+  // What the stored map was drawn from: FiberGpu::modelVersion and the
+  // setShading count; 0: none.
+  uint64_t shadowModel_ = 0, shadowInputs_ = 0, inputsVersion_ = 0;
+  bool faultShadowMapStale_ = false;
   uint32_t shadowSize_ = 0, shadowLayers_ = 0;
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames

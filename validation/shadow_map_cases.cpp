@@ -14,7 +14,10 @@
 //  shadowmap/embree     (C5) the built-in scene, points inside the tubes: the
 //                       map against Embree shadow rays through round curves of
 //                       radius W (reference/shadow_map_reference.h), outside a
-//                       1.5-texel band around shadow edges.
+//                       1.5-texel band around shadow edges;
+//  shadowmap/kept/<path> the frame keeps the map while only the camera moves
+//                       and redraws it when the model changes: each frame
+//                       equals, bit for bit, the frame with a freshly drawn map.
 //
 // C1–C3 build their geometry and expectations here, from the preset's
 // fields, without common/: the tube radius W = yarn_radius/2 + max(e_N, e_B)
@@ -29,6 +32,7 @@
 
 #include "gpu/fiber_renderer.h"
 #include "gpu/shading_inputs_gpu.h"
+#include "scene/camera.h"
 #include "reference/shadow_map_reference.h"
 #include "scene/default_scene.h"
 #include "scene/lighting.h"
@@ -402,9 +406,94 @@ CaseResult runEmbree(ValidationContext& ctx) {
   return r;
 }
 
+
+// ---- shadowmap/kept/<path> ----
+// FiberRenderer::draw redraws the map only when the shading inputs or the
+// model changed (the map does not depend on the camera). Each frame below is
+// compared, bit for bit, with the same frame after setShading (which forces
+// a fresh map): after a camera move (the kept map must be the map of this
+// model) and after setModel with the model scaled 1.1× about its centre (the
+// map must have been redrawn: a kept one shadows the old yarns' places).
+CaseResult runKept(ValidationContext& ctx, bool tessellation) {
+  CaseResult r;
+  const char* pathName = tessellation ? "tessellation" : "compute";
+  r.name = fmt::format("shadowmap/kept/{}", pathName);
+  r.group = "shadowmap";
+  r.path = pathName;
+  const auto t0 = Clock::now();
+  const YarnPreset& preset = findYarnPreset("cotton1");
+  const FiberSetup& setup = ctx.fiberSetup(preset);
+  const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
+    return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
+  });
+  constexpr int kW = 240, kH = 180;
+  Lighting lighting;
+  lighting.fabric = "cotton";
+  const ShadingInputs inputs = ctx.gpu<ShadingBakeGpu>().bake(
+      {makeShadingParams(lighting), &fitted.fit.preset, AppearanceOptions{}, &setup.params, &setup.table});
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
+  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
+  const FiberPath path = tessellation ? FiberPath::Tessellation : FiberPath::Compute;
+  auto view = [&](const char* name) {
+    const Camera c = namedViewCamera(name, ctx.model(), setup.params, glm::vec3(0.3f, 0.5f, 1.0f), kW, kH);
+    gpu.setParams(setup.params, makeViewParams(c, ctx.options().lodThresholdPx, true, true));
+  };
+  auto differing = [](const ImageRgbaF& a, const ImageRgbaF& b, size_t& nonFinite) {
+    size_t n = 0;
+    for (size_t k = 0; k < a.pixels.size(); ++k) {
+      nonFinite += !std::isfinite(a.pixels[k]) + !std::isfinite(b.pixels[k]);
+      n += a.pixels[k] != b.pixels[k];
+    }
+    return n;
+  };
+  size_t nonFinite = 0;
+  // A camera move.
+  gpu.setModel(ctx.buffers(), setup.table);
+  gpu.setSegmentList({});
+  renderer.setShading(inputs);
+  view("closeup");
+  renderer.render(gpu, path, kW, kH);  // draws the map
+  view("frame");
+  const ImageRgbaF moved = renderer.render(gpu, path, kW, kH);  // keeps it
+  renderer.setShading(inputs);
+  const ImageRgbaF movedFresh = renderer.render(gpu, path, kW, kH);
+  const size_t cameraDiff = differing(moved, movedFresh, nonFinite);
+  // A model change: every control point scaled 1.1× about the bounds' centre.
+  YarnBuffers scaled = ctx.buffers();
+  glm::vec3 lo(3e38f), hi(-3e38f);
+  for (const ControlPoint& p : scaled.points) {
+    lo = glm::min(lo, glm::vec3(p.positionLength));
+    hi = glm::max(hi, glm::vec3(p.positionLength));
+  }
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  for (ControlPoint& p : scaled.points)
+    p.positionLength = glm::vec4(centre + 1.1f * (glm::vec3(p.positionLength) - centre), p.positionLength.w);
+  gpu.setModel(scaled, setup.table);
+  const ImageRgbaF changed = renderer.render(gpu, path, kW, kH);  // must redraw
+  renderer.setShading(inputs);
+  const ImageRgbaF changedFresh = renderer.render(gpu, path, kW, kH);
+  const size_t modelDiff = differing(changed, changedFresh, nonFinite);
+  gpu.setModel(ctx.buffers(), setup.table);  // leave the shared FiberGpu as the other cases expect it
+  r.gpuMilliseconds = msSince(t0);
+  r.gpuTiming = "steady_clock: bakes + 5 frames with read-back";
+  r.metrics = {
+      Metric{"nonfinite.gpu", double(nonFinite), 0.0, "count", "NaN/Inf are failures"},
+      Metric{"camera_move.pixels_differing", double(cameraDiff), 0.0, "channels",
+             "after a camera move the kept map is this model's: the frame equals the one with a fresh map"},
+      Metric{"model_change.pixels_differing", double(modelDiff), 0.0, "channels",
+             "after setModel the map is redrawn: the frame equals the one with a fresh map"},
+  };
+  r.details = fmt::format("{} / {} differing channels of {}", cameraDiff, modelDiff, moved.pixels.size());
+  r.finish();
+  return r;
+}
+
 }  // namespace
 
 void addShadowMapCases(ValidationContext& /*ctx*/, std::vector<ValidationCase>& out) {
+  for (bool tessellation : {false, true})
+    out.push_back({fmt::format("shadowmap/kept/{}", tessellation ? "tessellation" : "compute"),
+                   [tessellation](ValidationContext& c) { return runKept(c, tessellation); }});
   out.push_back({"shadowmap/acne", [](ValidationContext& c) { return runAcne(c); }});
   out.push_back({"shadowmap/own-fibers", [](ValidationContext& c) { return runOwnFibers(c); }});
   out.push_back({"shadowmap/width", [](ValidationContext& c) { return runWidth(c); }});

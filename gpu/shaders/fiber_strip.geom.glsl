@@ -133,7 +133,6 @@ void main() {
   if (type0 != FT_FIBER_CORE) return;
 #endif
   float inner = 0.5 * min(w.x, w.y) * planeDepth / max(dot(eye - p0, e), dot(eye - p1, e));
-  if (2.0 * inner * view.cameraPos.w / planeDepth < FT_OCCLUDER_MIN_WIDTH_PX) return;  // pixels per unit at planeDepth
   for (int i = 0; i < 4; ++i) {
     int end = i / 2;
     corners[i] = q[end] + ((i & 1) == 0 ? -inner : inner) * across;
