@@ -144,6 +144,24 @@ bool castCapsule(vec3 o, out FiberHit h) {
   return true;
 }
 
+// Whether the eye ray through o passes within the capsule's radius of its
+// line (the capsule is the set of points that close to it, with the radius
+// at the closest point): the coverage test of a multisample position, a
+// third of castCapsule, which only the shading hit needs. o lies within a few
+// radii of the line, so the distances are taken relative to it.
+bool capsuleCovers(vec3 o) {
+  vec3 d = o - view.cameraPos.xyz;
+  vec3 axis = lineP1 - lineP0;
+  vec3 w = o - lineP0;
+  float a = dot(d, d), b = dot(d, axis), c = dot(axis, axis), e = dot(axis, w), f = dot(d, w);
+  float den = a * c - b * b;  // 0 for a line seen end-on: its nearer end decides
+  float u = clamp(den > 1e-12 * a * c ? (a * e - b * f) / den : (b > 0.0 ? 0.0 : 1.0), 0.0, 1.0);
+  vec3 q = w - u * axis;               // from the axis point to o
+  vec3 across = q - (dot(q, d) / a) * d;  // its part across the ray
+  float r = FT_COVERAGE_SCALE * mix(lineHalfWidth.x, lineHalfWidth.y, u);
+  return dot(across, across) <= r * r;
+}
+
 float selfShadowTexel(uint i, uint j, uint k) { return selfShadowTexels[ftSelfShadowIndex(selfShadow, i, j, k)]; }
 vec4 selfShadowCorners(SelfShadowSample s, uint k) {
   return vec4(selfShadowTexel(s.u.x, s.u.z, k), selfShadowTexel(s.u.y, s.u.z, k), selfShadowTexel(s.u.x, s.u.w, k),
@@ -347,8 +365,7 @@ void main() {
   // point there lies on that sample's eye ray), so a fiber thinner than a
   // pixel keeps the 4× coverage a plain strip had. Shading: once, at the
   // pixel centre's hit, or at the first covered sample's when the centre misses.
-  FiberHit h;
-  bool shadeHit = castCapsule(stripWorld, h);
+  bool centreCovered = capsuleCovers(stripWorld);
   // A centre ray that passes the axis well inside the radius (by more than the
   // pixel's diagonal at that depth) has every sample inside: skip the tests.
   vec3 eye = view.cameraPos.xyz;
@@ -359,18 +376,20 @@ void main() {
   float u = dot(m - dot(m, d) * d, axis) / len2;  // ≈ the place of the ray's closest approach
   float axisDistance = dot(c, c) > 0.0 ? abs(dot(m, c)) * inversesqrt(dot(c, c)) : 3.0e38;
   float footprint = 0.75 * distance(eye, stripWorld) / view.cameraPos.w;
-  bool deepInside = shadeHit && u > 0.0 && u < 1.0 &&
+  bool deepInside = centreCovered && u > 0.0 && u < 1.0 &&
                     axisDistance + footprint < FT_COVERAGE_SCALE * min(lineHalfWidth.x, lineHalfWidth.y);
   int mask = deepInside ? (1 << gl_NumSamples) - 1 : 0;
+  int firstCovered = -1;
   for (int i = 0; i < gl_NumSamples && !deepInside; ++i) {
-    FiberHit hs;
-    if (!castCapsule(interpolateAtSample(stripWorld, i), hs)) continue;
+    if (!capsuleCovers(interpolateAtSample(stripWorld, i))) continue;
     mask |= 1 << i;
-    if (!shadeHit) {
-      h = hs;
-      shadeHit = true;
-    }
+    if (firstCovered < 0) firstCovered = i;
   }
+  // One ray cast for the shading hit: at the centre, or at the first covered
+  // sample when the centre misses.
+  FiberHit h;
+  bool shadeHit = (centreCovered || firstCovered >= 0) &&
+                  castCapsule(centreCovered ? stripWorld : interpolateAtSample(stripWorld, max(firstCovered, 0)), h);
   mask &= gl_SampleMaskIn[0];
   if (mask == 0 || !shadeHit) discard;
   if (stripType == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u && shaded != 0u &&
