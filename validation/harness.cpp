@@ -69,6 +69,11 @@ const FiberSetup& ValidationContext::fiberSetup(const YarnPreset& preset) {
   });
 }
 
+const FittedFibers& ValidationContext::fittedFibers(const YarnPreset& preset) {
+  return cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name},
+                [&] { return fitFibers(preset, yarnRadius_, yarnRadiusSource_, options_.fiber); });
+}
+
 const FiberSetup& ValidationContext::allFiberSetup(const YarnPreset& preset) {
   return cached(CacheKey<FiberSetup>{"preset-all-fibers/" + preset.name}, [&]() -> FiberSetup {
     FiberOptions all = options_.fiber;

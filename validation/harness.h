@@ -90,6 +90,9 @@ class ValidationContext {
   // The preset fitted to yarnRadius() with its fiber table and YarnParams
   // (scene/yarn_radius.h), built once per preset.
   const FiberSetup& fiberSetup(const YarnPreset& preset);
+  // The same fit with the fitted preset itself (FittedFibers::fit.preset: the
+  // ply-density field the appearance bakes of 000 §4 read), built once per preset.
+  const FittedFibers& fittedFibers(const YarnPreset& preset);
   // The same preset as the all-fiber reference (FiberOptions::allFibers:
   // every fiber of the preset explicit, no core; pair it with LoD off), with
   // the run's other fiber options, built once per preset.

@@ -44,9 +44,7 @@ CaseResult runOcclusionCull(ValidationContext& ctx, const std::string& view, boo
   const auto t0 = Clock::now();
   const YarnPreset& preset = findYarnPreset("cotton1");
   const FiberSetup& setup = ctx.fiberSetup(preset);
-  const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
-    return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
-  });
+  const FittedFibers& fitted = ctx.fittedFibers(preset);
   const Camera camera = namedViewCamera(view, ctx.model(), setup.params, glm::vec3(0.3f, 0.5f, 1.0f), kWidth, kHeight);
   Lighting lighting;
   lighting.fabric = "cotton";

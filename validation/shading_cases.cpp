@@ -513,9 +513,7 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   }
   const ShadingParams s = makeShadingParams(lighting);
   const YarnPreset& preset = shadingPreset(ctx);
-  const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
-    return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
-  });
+  const FittedFibers& fitted = ctx.fittedFibers(preset);
   const auto t0 = Clock::now();
   FiberGpu& gpu = ctx.gpu<FiberGpu>();
   gpu.setModel(ctx.buffers(), in.setup->table);

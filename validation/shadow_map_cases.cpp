@@ -423,9 +423,7 @@ CaseResult runKept(ValidationContext& ctx, bool tessellation) {
   const auto t0 = Clock::now();
   const YarnPreset& preset = findYarnPreset("cotton1");
   const FiberSetup& setup = ctx.fiberSetup(preset);
-  const FittedFibers& fitted = ctx.cached(CacheKey<FittedFibers>{"shading/fitted/" + preset.name}, [&] {
-    return fitFibers(preset, ctx.yarnRadius(), ctx.yarnRadiusSource(), ctx.options().fiber);
-  });
+  const FittedFibers& fitted = ctx.fittedFibers(preset);
   constexpr int kW = 240, kH = 180;
   Lighting lighting;
   lighting.fabric = "cotton";
