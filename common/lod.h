@@ -9,6 +9,18 @@
 #include "yarn_curve.h"
 #include "yarn_params.h"
 
+// Planted fault (validation/faults.def), shared: run-time switch in C++, define in GLSL.
+#ifdef __cplusplus
+namespace ft {
+inline bool ftFaultCoreLinesOne = false;
+}
+#define FT_FAULT_CORE_LINES_ONE_ON ::ft::ftFaultCoreLinesOne
+#elif defined(FT_FAULT_CORE_LINES_ONE)
+#define FT_FAULT_CORE_LINES_ONE_ON true
+#else
+#define FT_FAULT_CORE_LINES_ONE_ON false
+#endif
+
 FT_NAMESPACE_BEGIN
 
 // Eq. 4: λ from the screen widths of a fiber and of a ply at the yarn centre.
@@ -150,9 +162,7 @@ FT_FUNC SegmentDecision ftDecideSegment(YarnParams p, ViewParams v, YarnSegment 
 #else
   FT_PRECISE float coreSubdiv = ceil(ftCoreSubdivisionEstimate(p, v, seg));
 #endif
-#ifdef FT_FAULT_CORE_LINES_ONE
-  coreSubdiv = 1.0f;  // one line per core: its chord far off the ply's helix
-#endif
+  if (FT_FAULT_CORE_LINES_ONE_ON) coreSubdiv = 1.0f;  // one line per core: its chord far off the ply's helix
   d.coreLines = uint(clamp(coreSubdiv, 1.0f, float(d.subdivisions)));
   d.coreHalfWidth = ftCoreHalfWidthAt(p, v, vec3(seg.b0));
   d.coreHalfWidthEnd = ftCoreHalfWidthAt(p, v, vec3(seg.b3));

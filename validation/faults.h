@@ -9,6 +9,7 @@
 #include "common/bcsdf.h"
 #include "common/core_texture.h"
 #include "common/fiber_shading.h"
+#include "common/lod.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/yarn_frame.h"
@@ -39,6 +40,7 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
   if (define == "FT_FAULT_BCSDF_NORM_THETA_I") ftFaultBcsdfNormThetaI = on;
   if (define == "FT_FAULT_LOBE_NORM_TEXEL_ANGLE") ftFaultLobeNormTexelAngle = on;
+  if (define == "FT_FAULT_CORE_LINES_ONE") ftFaultCoreLinesOne = on;
   if (define == "FT_FAULT_SHADING_COS_DROPPED") ftFaultShadingCosDropped = on;
   if (define == "FT_FAULT_SELF_SHADOW_SLICE_RANGE") ftFaultSelfShadowSliceRange = on;
   if (define == "FT_FAULT_SELF_SHADOW_PSI_SIGN") ftFaultSelfShadowPsiSign = on;
