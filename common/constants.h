@@ -76,6 +76,16 @@
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/bcsdf.h)
 #define FT_SSBO_LOBE_NORM_TABLE 38 // vec2[FT_LOBE_NORM_TABLE_SIZE]: (Z_R, Z_TT) at ftLobeNormTexelAngle (common/bcsdf.h)
 
+// Dual-scattering correction ξ and fiber-level shadowing (common/ds_correction.h,
+// 001 §4.3): UBO 12 and SSBO 45–50 are this group's.
+#define FT_UBO_XI 12               // DsCorrectionLayout
+#define FT_SSBO_XI_M 45            // vec4[N_θ][N_v][N_u]: rgb ξ_M
+#define FT_SSBO_XI_N 46            // vec4[N_φ][N_v][N_u]: rgb ξ_N
+#define FT_SSBO_XI_PSI_M 47        // vec4[N_θ][N_v][N_u]: rgb Ψ_{G,M}^Fiber
+#define FT_SSBO_XI_PSI_N 48        // vec4[N_φ][N_v][N_u]: rgb Ψ_{G,N}^Fiber
+#define FT_SSBO_XI_REQUESTS 49     // vec4 (u, v, θ, φ) per lookup request (harness)
+#define FT_SSBO_XI_RESULTS 50      // vec4 rgb ξ_M ξ_N Ψ_M Ψ_N per request
+
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u
@@ -97,6 +107,7 @@
 #define FT_WG_SELF_SHADOW 64
 #define FT_WG_CORE_TEXTURE 64
 #define FT_WG_AO 64
+#define FT_WG_XI 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

@@ -392,7 +392,45 @@ glm::dvec2 pixelSample(int k, int n, int g, std::span<const int> perm, RandomStr
 constexpr int kTile = 16;
 constexpr uint32_t kPermutationStream = ~0u;  // RandomStream sample index of a pixel's Latin-hypercube permutation
 
+// Collects the distinct fibers a ray passes (rejecting every hit, so Embree
+// goes on to the next), after ignoreOwnFiber's test.
+struct CrossingContext {
+  FilterContext filter;  // first: Embree hands its address back
+  uint32_t fibers[64];
+  uint32_t count, cap;
+};
+
+void collectFibers(const RTCFilterFunctionNArguments* args) {
+  auto* c = reinterpret_cast<CrossingContext*>(args->context);
+  if (c->filter.own.fiber != ~0u) ignoreOwnFiber(args);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    args->valid[i] = 0;
+    const uint32_t fiber = c->filter.strips[c->filter.stripOf[RTCHitN_primID(args->hit, args->N, i)]].fiber;
+    if (c->count >= c->cap || std::find(c->fibers, c->fibers + c->count, fiber) != c->fibers + c->count) continue;
+    c->fibers[c->count++] = fiber;
+  }
+}
+
 }  // namespace
+
+uint32_t FiberTraceScene::fibersCrossed(glm::vec3 p, glm::vec3 w, uint32_t fromStrip, uint32_t cap) const {
+  CrossingContext c{};
+  rtcInitIntersectContext(&c.filter.embree);
+  c.filter.embree.filter = collectFibers;
+  c.filter.stripOf = impl_->stripOf.data();
+  c.filter.strips = impl_->strips.data();
+  c.filter.own = fromStrip == kNoStrip ? StripInfo{~0u, 0, 0.0f, 0} : impl_->strips[fromStrip];
+  c.cap = std::min<uint32_t>(cap, 64);
+  RTCRay ray{};
+  ray.org_x = p.x, ray.org_y = p.y, ray.org_z = p.z;
+  ray.dir_x = w.x, ray.dir_y = w.y, ray.dir_z = w.z;
+  ray.tnear = 0.0f;
+  ray.tfar = std::numeric_limits<float>::infinity();
+  ray.mask = ~0u;
+  rtcOccluded1(impl_->scene, &c.filter.embree, &ray);
+  return c.count;
+}
 
 TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, const ShadingParams& s,
                         std::span<const glm::vec3> ambientTable, const TraceOptions& options) {
@@ -469,6 +507,9 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
               continue;
             }
             sum += glm::dvec3(L);
+            if (options.onHit)
+              options.onHit(TraceSample{pixel, h.position, h.t, h.n, -dir, L, h.strip,
+                                        render.scene->strips[h.strip].type});
           }
           float* px = result.image.at(x, y);
           const glm::dvec3 mean = sum / double(spp);

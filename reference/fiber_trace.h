@@ -22,6 +22,7 @@ namespace ft {
 
 struct TraceOptions;
 struct TraceResult;
+struct TraceSample;
 
 // Unit tangent of every vertex of a canonical-order vertex stream, by the
 // rule of gpu/shaders/fiber_strip_tangent.glsl: the central difference
@@ -52,6 +53,13 @@ class FiberTraceScene {
 
   size_t segmentCount() const;
   size_t fiberCount() const;  // distinct (yarn, ply, fiber)
+
+  // Distinct fibers along p + τω, τ > 0 (ω a unit vector), up to `cap`,
+  // ignoring the fiber of the sample's strip where it is "itself" (as shadow
+  // rays do, traceFibers): the n of dual scattering's T_f = d_f ā_f^n
+  // (notes-rendering A6–A7). A fiber crossed twice (a helix met on both sides)
+  // counts once.
+  uint32_t fibersCrossed(glm::vec3 p, glm::vec3 w, uint32_t fromStrip, uint32_t cap = 64) const;
   // Memory held: this scene's arrays (capacity) + every byte Embree has
   // allocated for it (BVH, build buffers still held), counted by Embree's
   // memory monitor.
@@ -78,6 +86,23 @@ struct TraceOptions {
   bool russianRoulette = true;      // after 3 scattering events; off: every path runs until it escapes or maxDepth
   uint32_t seed = 1;
   std::function<void(double fraction)> progress;  // called from worker threads, one call at a time
+  // Called at every camera sample that hits a fiber, once its radiance is
+  // known, on the worker thread that renders the pixel (all samples of one
+  // pixel run on one thread, in order, so per-pixel sums need no lock): for
+  // bakes that gather more than the image (reference/ds_correction.cpp).
+  std::function<void(const TraceSample&)> onHit;
+};
+
+// What TraceOptions::onHit sees.
+struct TraceSample {
+  uint32_t pixel;      // y · width + x
+  glm::vec3 position;  // the hit
+  glm::vec3 tangent;   // unit, as shaded
+  glm::vec3 normal;    // unit, facing the camera ray
+  glm::vec3 wo;        // towards the camera
+  glm::vec3 radiance;  // the sample's shaded value (already finite)
+  uint32_t strip;      // for FiberTraceScene::fibersCrossed
+  uint32_t fiberType;  // FT_FIBER_*
 };
 
 struct TraceStats {

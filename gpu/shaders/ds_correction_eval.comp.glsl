@@ -1,0 +1,38 @@
+// The DS correction textures looked up per request (DsCorrectionGpu::evaluate),
+// as a fragment would: ftXiLookup, the eight corners of each texture, the
+// product ξ_M ξ_N Ψ_M Ψ_N of 001 eq. 11 (common/ds_correction.h).
+#include "common/constants.h"
+#include "common/ds_correction.h"
+#include "shaders/flat_dispatch.glsl"
+
+layout(local_size_x = FT_WG_XI) in;
+layout(std140, binding = FT_UBO_XI) uniform DsCorrectionBlock { DsCorrectionLayout dsLayout; };
+layout(std430, binding = FT_SSBO_XI_M) readonly buffer DsXiM { vec4 xiM[]; };
+layout(std430, binding = FT_SSBO_XI_N) readonly buffer DsXiN { vec4 xiN[]; };
+layout(std430, binding = FT_SSBO_XI_PSI_M) readonly buffer DsPsiM { vec4 psiM[]; };
+layout(std430, binding = FT_SSBO_XI_PSI_N) readonly buffer DsPsiN { vec4 psiN[]; };
+layout(std430, binding = FT_SSBO_XI_REQUESTS) readonly buffer DsRequests { vec4 requests[]; };  // (u, v, θ, φ)
+layout(std430, binding = FT_SSBO_XI_RESULTS) writeonly buffer DsResults { vec4 results[]; };
+uniform uint requestCount;
+uniform uint groupsX;
+
+void main() {
+  uint r = flatInvocationIndex(groupsX, FT_WG_XI);
+  if (r >= requestCount) return;
+  vec4 q = requests[r];
+  XiLookup l = ftXiLookup(dsLayout, q.xy, q.zw);
+  vec3 xm = vec3(0.0), xn = vec3(0.0), pm = vec3(0.0), pn = vec3(0.0);
+  for (int c = 0; c < 8; ++c) {
+    float wm = ftXiCornerWeight(l, l.theta, c), wn = ftXiCornerWeight(l, l.phi, c);
+    uint im = ftXiCorner(dsLayout, l, l.theta, c), iN = ftXiCorner(dsLayout, l, l.phi, c);
+#ifdef FT_FAULT_XI_GPU_PSI_N_FROM_M
+    pn += wn * psiM[iN].rgb;  // Ψ_N read from the Ψ_M texture (GPU only)
+#else
+    pn += wn * psiN[iN].rgb;
+#endif
+    xm += wm * xiM[im].rgb;
+    xn += wn * xiN[iN].rgb;
+    pm += wm * psiM[im].rgb;
+  }
+  results[r] = vec4(xm * xn * pm * pn, 0.0);
+}

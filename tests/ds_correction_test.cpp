@@ -1,0 +1,139 @@
+// The DS correction bake's pieces that need no path tracing
+// (reference/ds_correction.h, common/ds_correction.h; 001 §4.3 eq. 9–11,
+// notes-rendering A7): the two rank-1 fits on separable data (C3), the whole
+// factorisation + lookup chain on synthetic separable sums (the runtime
+// reproduces them exactly), the bake's light convention tied to the runtime's
+// angles, and the file's round trip and refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "reference/ds_correction.h"
+#include "scene/input_error.h"
+
+namespace ft {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+TEST(DsCorrection, LogRankOneIsExactOnSeparableData) {
+  const int nt = 5, np = 7;
+  std::vector<double> v(size_t(nt * np));
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < np; ++b) v[size_t(a * np + b)] = (0.5 + a) * std::exp(std::sin(b));
+  const std::vector<double> f = factorLogRankOne(v, nt, np);
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < np; ++b) EXPECT_NEAR(f[size_t(a)] * f[size_t(nt + b)] / v[size_t(a * np + b)], 1.0, 1e-12);
+}
+
+TEST(DsCorrection, WeightedRankOneIsExactOnSeparableData) {
+  const int nt = 4, np = 6;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.01, 2.0);
+  std::vector<double> target(size_t(nt * np)), basis(target.size()), weight(target.size());
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < np; ++b) {
+      const size_t i = size_t(a * np + b);
+      basis[i] = u(rng);
+      weight[i] = u(rng);
+      target[i] = (1.0 + a * a) * (3.0 - 0.4 * b) * basis[i];
+    }
+  const std::vector<double> f = factorWeightedRankOne(target, basis, weight, nt, np, 64);
+  for (int a = 0; a < nt; ++a)
+    for (int b = 0; b < np; ++b)
+      EXPECT_NEAR(f[size_t(a)] * f[size_t(nt + b)] * basis[size_t(a * np + b)] / target[size_t(a * np + b)], 1.0, 1e-9);
+}
+
+// Sums whose L_* = k_M(a) k_N(b) c(texel) Ψ̄ ḡ with separable Ψ̄: the runtime's
+// ξ_M ξ_N Ψ_M Ψ_N ḡ, read through the shared lookup at the texel centres,
+// must give L_* back (the pixel → texel → lookup chain).
+TEST(DsCorrection, FactoredTexturesReproduceSeparableSums) {
+  DsCorrectionLayout l{};
+  l.size = glm::uvec4(6, 3, 4, 4);
+  l.yarn = glm::vec4(0.45f, 0.07f, 0.0f, 0.0f);
+  const size_t texels = 18;
+  std::vector<DsDirectionSums> dirs;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      DsDirectionSums s{std::vector<glm::dvec3>(texels), std::vector<glm::dvec3>(texels), std::vector<glm::dvec3>(texels),
+                        std::vector<double>(texels, 0.0)};
+      for (size_t t = 0; t < texels; ++t) {
+        if (t == 7) continue;  // one texel no sample hits
+        const double hits = 3.0 + double(t % 4);
+        const double psi = (0.2 + 0.2 * a) * (0.9 - 0.1 * b) * (0.5 + 0.02 * double(t));
+        const double g = 0.3 + 0.1 * a + 0.05 * double((b * 7 + int(t)) % 5);  // not separable
+        const double k = (1.0 + a) * (2.0 - 0.3 * b) * (1.0 + 0.1 * double(t));
+        s.hits[t] = hits;
+        s.shadowing[t] = glm::dvec3(psi * hits, 0.5 * psi * hits, psi * hits);
+        s.local[t] = glm::dvec3(g * hits);
+        s.reference[t] = glm::dvec3(k * psi * g * hits, 0.5 * k * psi * g * hits, 2.0 * k * psi * g * hits);
+      }
+      dirs.push_back(s);
+    }
+  const DsCorrectionTextures t = factorDsCorrection(l, dirs, 16.0);
+  for (size_t d = 0; d < dirs.size(); ++d) {
+    EXPECT_LT(t.errorCorrected[d], 1e-5) << "direction " << d;
+    EXPECT_LT(t.totalCorrected[d], 1e-5) << "direction " << d;
+  }
+  EXPECT_EQ(t.coverage[7], 0.0f);
+  EXPECT_EQ(t.xiM[7], glm::vec4(1.0f, 1.0f, 1.0f, 0.0f));
+  EXPECT_FLOAT_EQ(t.coverage[3], 6.0f / 16.0f);
+}
+
+TEST(DsCorrection, BakeLightConventionMatchesTheRuntimeAngles) {
+  const glm::vec3 t(1.0f, 0.0f, 0.0f), wo(0.0f, 0.0f, 1.0f);
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < 8; ++b) {
+      const float theta = ftXiThetaSample(a, 8), phi = ftXiPhiSample(b, 8);
+      const glm::vec2 got = ftXiRelativeAngles(t, dsCorrectionLightDirection(theta, phi), wo);
+      EXPECT_NEAR(got.x, theta, 1e-6);
+      EXPECT_NEAR(std::remainder(double(got.y) - phi, 2 * kPi), 0.0, 1e-6);
+    }
+}
+
+TEST(DsCorrection, FileRoundTripAndRefusals) {
+  DsCorrectionTextures t;
+  t.layout.size = glm::uvec4(2, 2, 2, 3);
+  t.layout.yarn = glm::vec4(0.5f, 0.1f, 0.0f, 0.0f);
+  for (int k = 0; k < 8; ++k) t.xiM.push_back(glm::vec4(1.0f + k, 2.0f, 3.0f, 0.0f));
+  for (int k = 0; k < 12; ++k) t.xiN.push_back(glm::vec4(0.5f * k, 1.0f, 1.0f, 0.0f));
+  t.psiM = t.xiM;
+  t.psiN = t.xiN;
+  t.coverage = {0.0f, 0.5f, 1.0f, 0.25f};
+  const std::filesystem::path p = std::filesystem::temp_directory_path() / "ft_ds_correction_test.bin";
+  writeDsCorrection(p, t, "{\"spp\": 4}");
+  const DsCorrectionTextures r = readDsCorrection(p);
+  EXPECT_EQ(r.layout.size, t.layout.size);
+  EXPECT_EQ(r.xiN, t.xiN);
+  EXPECT_EQ(r.coverage, t.coverage);
+  // Truncated: the message names the file and the array.
+  std::filesystem::resize_file(p, std::filesystem::file_size(p) - 4);
+  try {
+    readDsCorrection(p);
+    FAIL() << "a truncated file was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("coverage is truncated"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(p.string()), std::string::npos) << e.what();
+  }
+  std::ofstream(p) << "not json\n";
+  EXPECT_THROW(readDsCorrection(p), InputError);
+  std::filesystem::remove(p);
+}
+
+TEST(DsCorrection, SettingsOutOfRangeAreRefused) {
+  DsCorrectionSettings s;
+  s.periods = 4;
+  EXPECT_THROW(checkDsCorrectionSettings(s), InputError);
+  s = {};
+  s.height = 0;
+  EXPECT_THROW(checkDsCorrectionSettings(s), InputError);
+  s = {};
+  s.yarn = "no-such-yarn";
+  EXPECT_THROW(checkDsCorrectionSettings(s), InputError);
+}
+
+}  // namespace
+}  // namespace ft

@@ -1,0 +1,298 @@
+// ds_correction_cases.cpp — the dual-scattering correction ξ and fiber-level
+// shadowing Ψ_G^Fiber of Huang et al. 2025 (001) §4.3 eq. 9–11
+// (common/ds_correction.h, reference/ds_correction.h, notes-rendering A7), at
+// CI size on the run's first yarn preset:
+//   xi/bake/<yarn> (CPU): the bake itself — one straight all-fiber yarn path
+//     traced under 4 × 4 light directions — judged against the path tracer:
+//     the runtime's ξ_M ξ_N Ψ_M Ψ_N ḡ (read back through the shared lookup)
+//     against L_* per texel, beside plain dual scattering Ψ̄ ḡ (C8, C7); Ψ̄
+//     within [0, 1] (C6); every value finite;
+//   xi/lookup/<yarn> (GPU): the per-frame lookup on 2,000 random (u, v, θ, φ)
+//     and at the φ seam: GPU vs CPU (agreement), and both against an
+//     interpolation written here from docs/ds-correction.md, which shares no
+//     code with common/ (a convention wrong on both sides fails here), and
+//     C4, continuity across φ = 0.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "gpu/ds_correction_gpu.h"
+#include "reference/ds_correction.h"
+#include "validation/harness.h"
+
+namespace ft {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+constexpr double kPi = 3.14159265358979323846;
+
+// ---- Tolerances, each with its reason ----------------------------------------------
+// CPU vs GPU lookup: the same float trilinear weights and a product of four
+// values near 1; rounding of the weights (~1e-7) and the products: 1e-5 relative.
+constexpr double kCrossTolerance = 1e-5;
+// Lookups vs the interpolation written here in double from the same float
+// texels: float weights and products, ~1e-6; 1e-5.
+constexpr double kOracleTolerance = 1e-5;
+// C4: φ = −ε and 2π − ε: the same corners, weights that differ by the
+// rounding of 2π − ε (~5e-7 of a texel): 1e-5 of the corners' scale.
+constexpr double kSeamTolerance = 1e-5;
+// C8: the runtime's factored correction against the path tracer, relative L1
+// over the covered texels, mean over directions. The notes expected 2 %; what
+// remains is the rank-1 (θ, φ) separation of eq. 10 itself, not noise: 16,
+// 32 and 64 spp and four seeds all measured 0.23–0.34 on cotton1 at 4 × 4
+// directions (docs/ds-correction.md). A lookup along the wrong axes reads
+// ξ of other directions: 11. 0.4.
+constexpr double kCorrectedTolerance = 0.4;
+// The correction must more than halve plain dual scattering's error (0.84–0.95
+// → 0.23–0.34 measured: ratios 0.25–0.4).
+constexpr double kGainTolerance = 0.5;
+// Ψ̄ is a mean of V + (1 − V) d_f ā_f^n ∈ [0, 1]; sums of ≤ 64 floats: 1e-6.
+constexpr double kPsiRangeTolerance = 1e-6;
+
+// The CI bake: N_v = 8 (N_u = 28 for cotton1), 4 × 4 directions, 2 × 2
+// pixels per texel at 16 spp (64 samples per texel), 3 periods.
+DsCorrectionSettings ciSettings(ValidationContext& ctx, const YarnPreset& preset) {
+  DsCorrectionSettings s;
+  s.yarn = preset.name;
+  s.presetOverrides = ctx.options().presetOverrides;
+  s.height = 8;
+  s.thetaSamples = 4;
+  s.phiSamples = 4;
+  s.pixelsPerTexel = 2;
+  s.samplesPerPixel = 16;
+  s.periods = 3;
+  return s;
+}
+
+struct Bake {
+  DsCorrectionLayout layout{};
+  std::vector<DsDirectionSums> sums;
+  DsCorrectionTextures textures;
+  double ms = 0.0;
+};
+
+const Bake& bake(ValidationContext& ctx, const YarnPreset& preset) {
+  return ctx.cached(CacheKey<Bake>{"xi/bake/" + preset.name}, [&] {
+    Bake b;
+    const auto t0 = Clock::now();
+    const DsCorrectionSettings s = ciSettings(ctx, preset);
+    const DsCorrectionScene scene(s);
+    b.layout = scene.layout();
+    for (int d = 0; d < scene.directionCount(); ++d) b.sums.push_back(scene.trace(d));
+    b.textures = factorDsCorrection(b.layout, b.sums, double(s.samplesPerPixel) * s.pixelsPerTexel * s.pixelsPerTexel);
+    b.ms = msSince(t0);
+    return b;
+  });
+}
+
+CaseResult newResult(const std::string& name, const char* path) {
+  CaseResult r;
+  r.name = name;
+  r.group = "xi";
+  r.path = path;
+  r.gpuTiming = "wall clock: upload, dispatch, read-back";
+  return r;
+}
+
+template <class V>
+uint64_t nonFiniteOf(const std::vector<V>& v) {
+  uint64_t n = 0;
+  for (const V& x : v)
+    for (int c = 0; c < 3; ++c) n += std::isfinite(x[c]) ? 0 : 1;
+  return n;
+}
+
+CaseResult runBakeCase(ValidationContext& ctx, const YarnPreset& preset, const std::string& name) {
+  CaseResult r = newResult(name, "cpu");
+  const Bake& b = bake(ctx, preset);
+  r.cpuMilliseconds = b.ms;
+  const DsCorrectionTextures& t = b.textures;
+  double total = 0.0, totalMean = 0.0, corrected = 0.0, uncorrected = 0.0, psiViolation = 0.0, xiLow = 1e30, xiHigh = 0.0;
+  size_t worstDirection = 0;
+  for (size_t d = 0; d < b.sums.size(); ++d) {
+    corrected += t.errorCorrected[d] / b.sums.size();
+    total = std::max(total, t.totalCorrected[d]);
+    totalMean += t.totalCorrected[d] / b.sums.size();
+    uncorrected += t.errorUncorrected[d] / b.sums.size();
+    if (t.errorCorrected[d] > t.errorCorrected[worstDirection]) worstDirection = d;
+    xiLow = std::min(xiLow, t.meanXi[d]);
+    xiHigh = std::max(xiHigh, t.meanXi[d]);
+    for (size_t texel = 0; texel < b.sums[d].hits.size(); ++texel) {
+      const double hits = b.sums[d].hits[texel];
+      if (hits == 0.0) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double psi = b.sums[d].shadowing[texel][c] / hits;
+        psiViolation = std::max({psiViolation, -psi, psi - 1.0});
+        if (std::isnan(psi)) psiViolation = psi;
+      }
+    }
+  }
+  uint64_t nonFinite = nonFiniteOf(t.xiM) + nonFiniteOf(t.xiN) + nonFiniteOf(t.psiM) + nonFiniteOf(t.psiN);
+  for (const DsDirectionSums& s : b.sums) nonFinite += nonFiniteOf(s.reference) + nonFiniteOf(s.shadowing) + nonFiniteOf(s.local);
+  r.metrics = {
+      Metric{"runtime.rel_l1", corrected, kCorrectedTolerance, "relative L1",
+             "C8: ξ_M ξ_N Ψ_M Ψ_N ḡ through the shared lookup vs the path-traced L_* per texel, mean over directions; "
+             "the rank-1 separation of eq. 10, measured 0.23-0.34 at 16-64 spp"},
+      Metric{"runtime.gain", uncorrected > 0.0 ? corrected / uncorrected : 1.0, kGainTolerance, "ratio",
+             "corrected / plain dual-scattering error: the correction must more than halve it (measured 0.25-0.4)"},
+      Metric{"runtime.total_rel.mean", totalMean, 0.0, "relative",
+             "|Σ runtime − Σ L_*| / Σ L_* over the covered texels (the image's total), mean over directions", false},
+      Metric{"runtime.total_rel.max", total, 0.0, "relative", "the same, worst direction", false},
+      Metric{"psi.range", psiViolation, kPsiRangeTolerance, "", "C6: Ψ̄ = mean of V + (1 − V) T_f(n) lies in [0, 1]"},
+      Metric{"ds.rel_l1", uncorrected, 0.0, "relative L1",
+             "plain dual scattering against the path tracer, mean over directions (the fidelity figure before ξ)",
+             false},
+      Metric{"runtime.worst_direction", t.errorCorrected[worstDirection], 0.0, "relative L1",
+             fmt::format("the worst direction's error, direction {} (θ index {}, φ index {})", worstDirection,
+                         worstDirection / b.layout.size.w, worstDirection % b.layout.size.w),
+             false},
+      Metric{"xi.mean_min", xiLow, 0.0, "", "C7: smallest image ξ = Σ L_* / Σ Ψ̄ ḡ over the directions (reported)", false},
+      Metric{"xi.mean_max", xiHigh, 0.0, "", "C7: largest image ξ (001 Fig. 14: dual scattering underestimates, ξ > 1 expected)", false},
+      nonFiniteMetric("cpu", nonFinite, "sums and textures"),
+  };
+  std::string details = "direction (θ_a, φ_b): image ξ, DS error → corrected error, total\n";
+  for (size_t d = 0; d < b.sums.size(); ++d)
+    details += fmt::format("  ({:+.1f}°, {:.0f}°): ξ {:.3f}, {:.3f} → {:.3f}, total {:.4f}\n",
+                           ftXiThetaSample(int(d / b.layout.size.w), int(b.layout.size.z)) * 180.0 / kPi,
+                           ftXiPhiSample(int(d % b.layout.size.w), int(b.layout.size.w)) * 180.0 / kPi, t.meanXi[d],
+                           t.errorUncorrected[d], t.errorCorrected[d], t.totalCorrected[d]);
+  r.details = details;
+  r.finish();
+  return r;
+}
+
+// ---- The oracle: the lookup as docs/ds-correction.md states it --------------------
+// Axis of n texels: periodic with centres (k + c)/n, or clamped with centres (k + ½)/n.
+struct AxisWeights {
+  int k0, k1;
+  double w1;
+};
+AxisWeights periodicAxis(double x, int n, double centre) {
+  double c = x * n - centre;
+  const double k = std::floor(c);
+  const int k0 = int(((long long)k % n + n) % n);
+  return {k0, (k0 + 1) % n, c - k};
+}
+AxisWeights clampedAxis(double x, int n) {
+  const double c = std::clamp(x * n - 0.5, 0.0, double(n - 1));
+  const int k0 = std::min(int(std::floor(c)), n - 1);
+  return {k0, std::min(k0 + 1, n - 1), c - k0};
+}
+// Trilinear read of a texture with `angles` slices at (u, v, angle weights);
+// `largest` gets the largest corner value (the scale of the weights' rounding).
+glm::dvec3 oracleRead(const std::vector<glm::vec4>& tex, int nu, int nv, AxisWeights u, AxisWeights v, AxisWeights a,
+                      glm::dvec3& largest) {
+  glm::dvec3 sum(0.0);
+  largest = glm::dvec3(0.0);
+  for (int c = 0; c < 8; ++c) {
+    const int i = c & 1 ? u.k1 : u.k0, j = c & 2 ? v.k1 : v.k0, k = c & 4 ? a.k1 : a.k0;
+    const double w = (c & 1 ? u.w1 : 1 - u.w1) * (c & 2 ? v.w1 : 1 - v.w1) * (c & 4 ? a.w1 : 1 - a.w1);
+    const glm::dvec3 value(glm::vec3(tex[size_t((k * nv + j) * nu + i)]));
+    sum += w * value;
+    largest = glm::max(largest, glm::abs(value));
+  }
+  return sum;
+}
+// The product of the four reads; `scale` = the product of their largest
+// corners: a weight rounded by δ moves the product by ≲ 4δ·scale, however
+// unequal the corners (ξ spans two decades between neighbours).
+glm::dvec3 oracleLookup(const DsCorrectionTextures& t, glm::dvec4 q, glm::dvec3& scale) {
+  const int nu = int(t.layout.size.x), nv = int(t.layout.size.y), nt = int(t.layout.size.z), np = int(t.layout.size.w);
+  const AxisWeights u = periodicAxis(q.x, nu, 0.5), v = clampedAxis(q.y, nv);
+  const AxisWeights theta = clampedAxis((q.z + kPi / 2) / kPi, nt);  // θ_a = −π/2 + (a + ½)π/N_θ
+  const AxisWeights phi = periodicAxis(q.w / (2 * kPi), np, 0.0);    // φ_b = 2πb/N_φ
+  glm::dvec3 l0, l1, l2, l3;
+  const glm::dvec3 r = oracleRead(t.xiM, nu, nv, u, v, theta, l0) * oracleRead(t.xiN, nu, nv, u, v, phi, l1) *
+                       oracleRead(t.psiM, nu, nv, u, v, theta, l2) * oracleRead(t.psiN, nu, nv, u, v, phi, l3);
+  scale = l0 * l1 * l2 * l3;
+  return r;
+}
+
+// |a − b| relative to `scale` per channel (at least 1e-6), the largest channel.
+double relDiff(glm::dvec3 a, glm::dvec3 b, glm::dvec3 scale) {
+  double e = 0.0;
+  for (int c = 0; c < 3; ++c) e = maxKeepNaN(e, std::abs(a[c] - b[c]) / std::max(std::abs(scale[c]), 1e-6));
+  return e;
+}
+
+CaseResult runLookupCase(ValidationContext& ctx, const YarnPreset& preset, const std::string& name) {
+  CaseResult r = newResult(name, "xi");
+  const Bake& b = bake(ctx, preset);
+  const DsCorrectionTextures& t = b.textures;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<glm::vec4> queries;
+  for (int k = 0; k < 2000; ++k)  // u, v a little outside [0, 1]: wrap and clamp; θ over [−π, π]
+    queries.emplace_back(-0.25f + 1.5f * unit(rng), -0.1f + 1.2f * unit(rng), float(kPi) * (2.0f * unit(rng) - 1.0f),
+                         float(2 * kPi) * unit(rng));
+  // C4: φ = −ε and 2π − ε name one direction: a repeated axis reads the
+  // same texels with the same weights (up to the rounding of φ/2π).
+  const int seamPairs = 200;
+  for (int k = 0; k < seamPairs; ++k) {
+    const glm::vec4 q(unit(rng), unit(rng), float(kPi) * (unit(rng) - 0.5f), 0.0f);
+    const float eps = 0.5f * unit(rng);
+    queries.push_back(glm::vec4(q.x, q.y, q.z, -eps));
+    queries.push_back(glm::vec4(q.x, q.y, q.z, float(2 * kPi) - eps));
+  }
+  const auto t0 = Clock::now();
+  const std::vector<glm::vec3> gpu = ctx.gpu<DsCorrectionGpu>().evaluate(t.layout, t.xiM, t.xiN, t.psiM, t.psiN, queries);
+  r.gpuMilliseconds = msSince(t0);
+  double cross = 0.0, oracleCpu = 0.0, oracleGpu = 0.0, seam = 0.0;
+  std::vector<glm::vec3> cpu(queries.size());
+  uint64_t nonFiniteCpu = 0, nonFiniteGpu = 0;
+  for (size_t q = 0; q < queries.size(); ++q) {
+    cpu[q] = evaluateDsCorrectionCpu(t, glm::vec2(queries[q].x, queries[q].y), glm::vec2(queries[q].z, queries[q].w));
+    glm::dvec3 scale;
+    const glm::dvec3 expected = oracleLookup(t, glm::dvec4(queries[q]), scale);
+    for (int c = 0; c < 3; ++c) {
+      nonFiniteCpu += std::isfinite(cpu[q][c]) ? 0 : 1;
+      nonFiniteGpu += std::isfinite(gpu[q][c]) ? 0 : 1;
+    }
+    const double e = relDiff(glm::dvec3(gpu[q]), glm::dvec3(cpu[q]), scale);
+    cross = maxKeepNaN(cross, e);
+    r.histogram.add(e);
+    oracleCpu = maxKeepNaN(oracleCpu, relDiff(glm::dvec3(cpu[q]), expected, scale));
+    oracleGpu = maxKeepNaN(oracleGpu, relDiff(glm::dvec3(gpu[q]), expected, scale));
+  }
+  r.histogramMetric = "cross.max_rel";
+  const size_t seamStart = queries.size() - 2 * seamPairs;
+  for (size_t q = seamStart; q < queries.size(); q += 2) {
+    glm::dvec3 scale;
+    oracleLookup(t, glm::dvec4(queries[q]), scale);
+    seam = maxKeepNaN(seam, relDiff(glm::dvec3(cpu[q]), glm::dvec3(cpu[q + 1]), scale));
+    seam = maxKeepNaN(seam, relDiff(glm::dvec3(gpu[q]), glm::dvec3(gpu[q + 1]), scale));
+  }
+  r.metrics = {
+      Metric{"cross.max_rel", cross, kCrossTolerance, "of the corners' scale",
+             "same float lookup on both sides: weight rounding"},
+      Metric{"oracle.cpu.max_rel", oracleCpu, kOracleTolerance, "relative",
+             "CPU lookup vs the interpolation written here (periodic u and φ, clamped v and θ, the documented texel "
+             "centres): float weights, ~1e-6"},
+      Metric{"oracle.gpu.max_rel", oracleGpu, kOracleTolerance, "relative", "the same for the GPU lookup"},
+      Metric{"seam.max_rel", seam, kSeamTolerance, "of the corners' scale",
+             "C4: φ = −ε and 2π − ε read the same texels (φ repeats); a clamped φ axis reads the other end"},
+      nonFiniteMetric("cpu", nonFiniteCpu, "CPU lookups"),
+      nonFiniteMetric("gpu", nonFiniteGpu, "GPU lookups"),
+  };
+  r.finish();
+  return r;
+}
+
+}  // namespace
+
+void addDsCorrectionCases(ValidationContext& ctx, std::vector<ValidationCase>& out) {
+  // The bake path-traces an all-fiber yarn: one preset (the run's first) keeps CI short.
+  const std::vector<const YarnPreset*> presets = ctx.presets();
+  if (presets.empty()) return;
+  const YarnPreset* preset = presets.front();
+  for (const auto& [kind, run] : {std::pair<const char*, PresetCaseRun>{"bake", runBakeCase}, {"lookup", runLookupCase}}) {
+    const std::string name = std::string("xi/") + kind + "/" + preset->name;
+    out.push_back({name, [run = run, preset, name](ValidationContext& c) { return run(c, *preset, name); }});
+  }
+}
+
+}  // namespace ft
