@@ -76,6 +76,12 @@
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/bcsdf.h)
 #define FT_SSBO_LOBE_NORM_TABLE 38 // vec2[FT_LOBE_NORM_TABLE_SIZE]: (Z_R, Z_TT) at ftLobeNormTexelAngle (common/bcsdf.h)
 
+// Dual scattering (common/dual_scattering.h, gpu/dual_scattering_gpu.h; Zinke
+// et al. 2008 as 001 §4.1 uses it): SSBO 42–44 are this group's.
+#define FT_SSBO_DS_INPUT 42        // FabricParams, then vec4 requests (evaluation: 2 per request)
+#define FT_SSBO_DS_TABLE 43        // vec4[FT_DS_ROWS·N]: the table, texel-major (common/dual_scattering.h)
+#define FT_SSBO_DS_OUTPUT 44       // bake: vec4[(FT_DS_ROWS + 4)·N]; evaluation: vec4[6] per request
+
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u
@@ -97,6 +103,7 @@
 #define FT_WG_SELF_SHADOW 64
 #define FT_WG_CORE_TEXTURE 64
 #define FT_WG_AO 64
+#define FT_WG_DS 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu
