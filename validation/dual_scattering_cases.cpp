@@ -191,6 +191,17 @@ CaseResult runTableCase(ValidationContext& ctx, const FabricPreset& preset, cons
                  !(row(*t, k, FT_DS_ROW_A_B)[ch] > 0.0);
       }
   }
+  // The closed forms themselves, against the oracle's brute-force 2D integral
+  // of eq. 6 (θ_o on Gauss–Legendre panels of β/2, φ 32 nodes per quarter,
+  // forward = cos φ < 0), at a few θ: both in double, ~1e-12 apart.
+  double closedForm = 0.0;
+  for (double theta : {-1.2, 0.0, 0.35, 1.45}) {
+    const oracle::DsLobes a = oracle::dsLobes(fabric, theta), b = oracle::dsLobesByQuadrature(fabric, theta);
+    const glm::dvec3 alb = oracle::albedo(fabric, theta);
+    for (int c = 0; c < 3; ++c)
+      for (double e : {a.aFR[c] - b.aFR[c], a.aFTT[c] - b.aFTT[c], a.aBR[c] - b.aBR[c], a.aBTT[c] - b.aBTT[c]})
+        closedForm = maxKeepNaN(closedForm, std::abs(e) / alb[c]);
+  }
   // The values at θ = 0 (docs/dual-scattering.md), from the CPU table.
   const DsTexel mid = lookupDsCpu(cpu.rows, 0.0f);
   const oracle::DsRows o0 = oracle::dsRows(fabric, oracle::dsLobes(fabric, 0.0));
@@ -201,6 +212,9 @@ CaseResult runTableCase(ValidationContext& ctx, const FabricPreset& preset, cons
              "oracle's own integral: ~1e-7 expected (notes A6: 1e-4)"},
       Metric{"lobes.gpu_max_rel", lobesGpu.value, kLobeTolerance, "of the albedo",
              "C1: GPU a_{H,p} (float midpoint 2048 x 2 x 20-point GL) vs the closed forms: ~1e-6 expected"},
+      Metric{"closed_form.self_check", closedForm, 1e-8, "of the albedo",
+             "the oracle's closed forms vs its own brute-force integral of eq. 6 over H_f, H_b at 4 θ (double, "
+             "high-order quadrature: ~1e-12): checks q(κ) and the F/2 split themselves"},
       Metric{"albedo.max_rel", albedo.value, kLobeTolerance, "relative",
              "B1: ā_f + ā_b = F + (1-F)C_TT (oracle), CPU and GPU tables"},
       Metric{"derived.max_rel", derived.value, kDerivedTolerance, "relative",
