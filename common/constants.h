@@ -85,6 +85,11 @@
 #define FT_SSBO_XI_PSI_N 48        // vec4[N_φ][N_v][N_u]: rgb Ψ_{G,N}^Fiber
 #define FT_SSBO_XI_REQUESTS 49     // vec4 (u, v, θ, φ) per lookup request (harness)
 #define FT_SSBO_XI_RESULTS 50      // vec4 rgb ξ_M ξ_N Ψ_M Ψ_N per request
+// Dual scattering (common/dual_scattering.h, gpu/dual_scattering_gpu.h; Zinke
+// et al. 2008 as 001 §4.1 uses it): SSBO 42–44 are this group's.
+#define FT_SSBO_DS_INPUT 42        // FabricParams, then vec4 requests (evaluation: 2 per request)
+#define FT_SSBO_DS_TABLE 43        // vec4[FT_DS_ROWS·N]: the table, texel-major (common/dual_scattering.h)
+#define FT_SSBO_DS_OUTPUT 44       // bake: vec4[(FT_DS_ROWS + 4)·N]; evaluation: vec4[6] per request
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
@@ -108,6 +113,7 @@
 #define FT_WG_CORE_TEXTURE 64
 #define FT_WG_AO 64
 #define FT_WG_XI 64
+#define FT_WG_DS 64
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

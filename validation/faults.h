@@ -9,6 +9,7 @@
 #include "common/bcsdf.h"
 #include "common/core_texture.h"
 #include "common/ds_correction.h"
+#include "common/dual_scattering.h"
 #include "common/fiber_shading.h"
 #include "common/lod.h"
 #include "common/self_shadow.h"
@@ -54,6 +55,10 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SHADOW_MAP_NO_REMAP") ftFaultShadowMapNoRemap = on;
   if (define == "FT_FAULT_XI_AXES_SWAPPED") ftFaultXiAxesSwapped = on;
   if (define == "FT_FAULT_XI_PHI_CLAMPED") ftFaultXiPhiClamped = on;
+  if (define == "FT_FAULT_DS_AB_DENOMINATOR") ftFaultDsAbDenominator = on;
+  if (define == "FT_FAULT_DS_FORWARD_VARIANCE") ftFaultDsForwardVariance = on;
+  if (define == "FT_FAULT_DS_HEMISPHERES_SWAPPED") ftFaultDsHemispheresSwapped = on;
+  if (define == "FT_FAULT_DS_BETA_THETA_O") ftFaultDsBetaThetaO = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
