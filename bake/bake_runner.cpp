@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <climits>
 #include <cstdint>
@@ -38,6 +39,17 @@ double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>
 
 std::string shardError(const Bake& bake, size_t shard, size_t shards, const char* what) {
   return fmt::format("bake {}: shard {} of {}: {}", bake.name(), shard, shards, what);
+}
+
+// The test hook of tests/bake_mpi_test.sh (like --inject for the shaders):
+// FT_BAKE_FAIL_RANK=R makes the first shard rank R runs throw, so a failure
+// on a worker rank and on rank 0's worker thread can each be planted.
+std::vector<std::byte> runShardOn(const Bake& bake, size_t shard, int rank) {
+  static std::atomic<bool> planted{false};
+  const char* fail = std::getenv("FT_BAKE_FAIL_RANK");
+  if (fail && std::string(fail) == std::to_string(rank) && !planted.exchange(true))
+    throw std::runtime_error(fmt::format("planted failure on rank {} (FT_BAKE_FAIL_RANK)", rank));
+  return bake.runShard(shard);
 }
 
 // "shard k/N done, elapsed, ETA" on stderr, at most once a second and at the
@@ -98,7 +110,7 @@ BakeRunSummary runLocal(Bake& bake, const BakeRunOptions& o, int threads, std::o
   std::vector<std::vector<std::byte>> results(s.shards);
   for (size_t k = 0; k < s.shards; ++k) {
     try {
-      results[k] = bake.runShard(k);
+      results[k] = runShardOn(bake, k, 0);
     } catch (const std::exception& e) {
       throw std::runtime_error(shardError(bake, k, s.shards, e.what()));
     }
@@ -151,7 +163,7 @@ void workerRank(const Bake& bake, int rank) {
     if (status.MPI_TAG == kTagStop) return;
     std::vector<std::byte> result;
     try {
-      result = bake.runShard(size_t(shard));
+      result = runShardOn(bake, size_t(shard), rank);
     } catch (const std::exception& e) {
       abortRun(fmt::format("rank {}: {}", rank, shardError(bake, size_t(shard), n, e.what())), 3);
     }
@@ -190,7 +202,7 @@ BakeRunSummary coordinatorRank(const Bake& bake, const BakeRunOptions& o, int ra
   std::thread worker([&] {
     while (const std::optional<size_t> k = take()) {
       try {
-        std::vector<std::byte> r = bake.runShard(*k);
+        std::vector<std::byte> r = runShardOn(bake, *k, 0);
         std::lock_guard lock(mutex);
         results[*k] = std::move(r);
         have[*k] = true;
