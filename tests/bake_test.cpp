@@ -137,6 +137,25 @@ TEST_F(BakeRunner, OutputChecksNameTheOption) {
   EXPECT_TRUE(bake.ran_.empty());  // rejected before any shard ran
 }
 
+// Mode (c): started by a launcher, built without MPI: every rank would redo
+// the whole bake, so it refuses before any shard runs.
+TEST_F(BakeRunner, UnderALauncherWithoutMpiRefuses) {
+  if (builtWithMpi()) GTEST_SKIP() << "built with MPI: tests/bake_mpi_test.sh runs the bake under mpirun";
+  ::setenv("OMPI_COMM_WORLD_SIZE", "2", 1);
+  CountingBake bake(3);
+  std::ostringstream log;
+  try {
+    runBake(bake, {dir_ / "x.txt", 1, true}, log);
+    ADD_FAILURE() << "ran under a launcher without MPI";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("built without MPI"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("OMPI_COMM_WORLD_SIZE"), std::string::npos) << e.what();
+  }
+  ::unsetenv("OMPI_COMM_WORLD_SIZE");
+  EXPECT_TRUE(bake.ran_.empty());
+  EXPECT_FALSE(fs::exists(dir_ / "x.txt"));
+}
+
 TEST(BakeLaunch, DetectsTheLaunchersByTheirVariables) {
   auto env = [](std::map<std::string, std::string> m) {
     return [m](const char* v) -> const char* {
