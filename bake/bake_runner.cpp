@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -294,6 +295,10 @@ BakeRunSummary runMpi(Bake& bake, const BakeRunOptions& o, int localRanksFromEnv
     tbb::global_control control(tbb::global_control::max_allowed_parallelism, size_t(threads));
     if (rank == 0) {
       checkBakeOutput(o.out);
+      if (threads > coresAvailable() && !o.quiet)  // Open MPI binds 1 or 2 ranks to one core each by default
+        std::cerr << fmt::format("fibertwin: warning: --threads {} but rank 0 may run on {} core{} only (mpirun binds "
+                                 "ranks to cores: add --bind-to none)\n",
+                                 threads, coresAvailable(), coresAvailable() == 1 ? "" : "s");
       s = coordinatorRank(bake, o, ranks, threads, log);
     } else {
       workerRank(bake, rank);
@@ -336,9 +341,16 @@ MpiLaunch detectMpiLaunch(const std::function<const char*(const char*)>& getenv)
 
 bool builtWithMpi() { return FT_WITH_MPI != 0; }
 
+int coresAvailable() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return int(std::max(1u, std::thread::hardware_concurrency()));
+  return std::max(1, CPU_COUNT(&set));
+}
+
 int defaultThreadsPerRank(int localRanks) {
   const int hw = int(std::max(1u, std::thread::hardware_concurrency()));
-  return std::max(1, hw / std::max(1, localRanks));
+  return std::max(1, std::min(hw / std::max(1, localRanks), coresAvailable()));
 }
 
 void checkBakeOutput(const std::filesystem::path& out) {

@@ -37,7 +37,9 @@ struct MpiLaunch {
 MpiLaunch detectMpiLaunch(const std::function<const char*(const char*)>& getenv);
 bool builtWithMpi();
 
-// hardware threads / localRanks, at least 1.
+// Cores this process may run on (its affinity mask: mpirun binds ranks).
+int coresAvailable();
+// min(hardware threads / localRanks, coresAvailable()), at least 1.
 int defaultThreadsPerRank(int localRanks);
 
 // The checks before any work: --out names a file in an existing, writable

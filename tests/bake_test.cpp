@@ -176,10 +176,12 @@ TEST(BakeLaunch, DetectsTheLaunchersByTheirVariables) {
 }
 
 TEST(BakeLaunch, DefaultThreadsSplitTheNode) {
-  const int hw = std::max(1, int(std::thread::hardware_concurrency()));
-  EXPECT_EQ(defaultThreadsPerRank(1), hw);
-  EXPECT_EQ(defaultThreadsPerRank(0), hw);
-  EXPECT_EQ(defaultThreadsPerRank(2), std::max(1, hw / 2));
+  const int hw = std::max(1, int(std::thread::hardware_concurrency())), cores = coresAvailable();
+  ASSERT_GE(cores, 1);
+  EXPECT_LE(cores, hw);
+  EXPECT_EQ(defaultThreadsPerRank(1), std::min(hw, cores));
+  EXPECT_EQ(defaultThreadsPerRank(0), std::min(hw, cores));
+  EXPECT_EQ(defaultThreadsPerRank(2), std::max(1, std::min(hw / 2, cores)));
   EXPECT_EQ(defaultThreadsPerRank(4 * hw), 1);
 }
 
