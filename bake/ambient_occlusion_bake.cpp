@@ -61,7 +61,7 @@ class AmbientOcclusionBake final : public Bake {
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
     app.add_option("--rows-per-shard", rowsPerShard_,
-                   "texel rows per shard (0: n/64 rounded up); the output does not depend on it")
+                   "texel rows per shard (0: ⌈n/64⌉, about 64 shards); the output does not depend on it")
         ->capture_default_str()
         ->check(CLI::Range(0, 4096));
   }
