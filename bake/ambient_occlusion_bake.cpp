@@ -48,9 +48,10 @@ class AmbientOcclusionBake final : public Bake {
     app.add_option("--set", sets_,
                    "override a yarn preset parameter by its data/yarn-presets.tsv column, name=value (repeatable)")
         ->allow_extra_args(false);
-    app.add_option("--size", settings_.resolution, "texels across the texture (n × n)")
+    // ≥ 8: the fit written into the header needs 4 radial bins of one texel (n/2 of them).
+    app.add_option("--size", settings_.resolution, "texels across the texture (n × n, n ≥ 8 for the cubic fit)")
         ->capture_default_str()
-        ->check(CLI::Range(2, 4096));
+        ->check(CLI::Range(8, 4096));
     app.add_option("--directions", settings_.directions, "stratified directions per texel")
         ->capture_default_str()
         ->check(CLI::Range(1, 65536));

@@ -265,6 +265,8 @@ TEST_F(BakeRunner, AmbientOcclusionFileIsSelfDescribingAndIndependentOfTheSplit)
 
 TEST(AmbientOcclusionBake, BadOptionsNameTheOption) {
   EXPECT_THROW(aoBake({"--size", "1"}), CLI::ValidationError);
+  EXPECT_THROW(aoBake({"--size", "7"}), CLI::ValidationError);  // 3 radial bins: no cubic fit
+  EXPECT_NO_THROW(aoBake({"--size", "8"}));
   EXPECT_THROW(aoBake({"--directions", "0"}), CLI::ValidationError);
   EXPECT_THROW(aoBake({"--seed", "-1"}), CLI::ValidationError);
   try {

@@ -324,6 +324,8 @@ run_case "bake (no name)" 2 "name a bake" "ambient-occlusion" -- bake
 run_case "bake ambient-occlusion (no --out)" 2 "--out is required" -- bake ambient-occlusion --size 8
 run_case "bake ambient-occlusion --size 1" 2 "--size" "Value 1 not in range" -- \
   bake ambient-occlusion --size 1 --out "$TMP/x.ao"
+run_case "bake ambient-occlusion --size 7" 2 "--size" "Value 7 not in range 8" -- \
+  bake ambient-occlusion --size 7 --out "$TMP/x.ao"
 run_case "bake ambient-occlusion --size abc" 2 "--size" "abc" -- bake ambient-occlusion --size abc --out "$TMP/x.ao"
 run_case "bake ambient-occlusion --threads 0" 2 "--threads" "0" -- \
   bake ambient-occlusion --threads 0 --out "$TMP/x.ao"
