@@ -2,7 +2,8 @@
 // reference (`validate`), render a yarn model on the GPU (`render`) and its
 // Embree ground truth (`trace`), compare two images (`compare`), optimize a
 // deformed stitch mesh into yarn curves (`knit`), describe the GL renderer
-// (`info`) and list injectable faults (`faults`).
+// (`info`), list injectable faults (`faults`) and run the sharded bakes of
+// bake/bakes.def, in one process or across MPI ranks (`bake`).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -19,6 +20,7 @@
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_radius.h"
 #include "validation/build_info.h"
+#include "cli/bake_command.h"
 #include "cli/compare_command.h"
 #include "validation/draw_check.h"
 #include "validation/faults.h"
@@ -320,6 +322,8 @@ int main(int argc, char** argv) {
 
   ft::CompareCommandOptions compareOptions;
   CLI::App* compare = ft::addCompareCommand(app, compareOptions);
+  ft::BakeCommandOptions bakeOptions;
+  CLI::App* bake = ft::addBakeCommand(app, bakeOptions);
 
   try {
     app.parse(argc, argv);
@@ -330,6 +334,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (compare->parsed()) return ft::runCompareCommand(compareOptions, std::cout);
+    if (bake->parsed()) return ft::runBakeCommand(bakeOptions, std::cout);
     if (validate->parsed()) {
       if (!modelPath.empty()) vo.model = modelPath;
       for (int i = 0; i < argc; ++i) vo.commandLine += (i ? " " : "") + shellQuote(argv[i]);

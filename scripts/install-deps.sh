@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   libeigen3-dev                    # least squares of the AO cubic fit
   libembree-dev libopenexr-dev     # the ray-traced ground truth; float images
+  libopenmpi-dev openmpi-bin       # `fibertwin bake` across MPI ranks (docs/bakes.md); optional at build time
   # headless OpenGL: libepoxy, EGL (surfaceless / device), Mesa llvmpipe, OSMesa
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev
   # shader checks in the tests

@@ -318,6 +318,34 @@ else
   failures+="  compare knit pair (outputs)\n"
 fi
 
+# ---- fibertwin bake (bake/bakes.def, docs/bakes.md): rejected before any shard runs --
+run_case "bake nosuch" 2 "unknown bake 'nosuch'" "ambient-occlusion" -- bake nosuch --out "$TMP/x.ao"
+run_case "bake (no name)" 2 "name a bake" "ambient-occlusion" -- bake
+run_case "bake ambient-occlusion (no --out)" 2 "--out is required" -- bake ambient-occlusion --size 8
+run_case "bake ambient-occlusion --size 1" 2 "--size" "Value 1 not in range" -- \
+  bake ambient-occlusion --size 1 --out "$TMP/x.ao"
+run_case "bake ambient-occlusion --size 7" 2 "--size" "Value 7 not in range 8" -- \
+  bake ambient-occlusion --size 7 --out "$TMP/x.ao"
+run_case "bake ambient-occlusion --size abc" 2 "--size" "abc" -- bake ambient-occlusion --size abc --out "$TMP/x.ao"
+run_case "bake ambient-occlusion --threads 0" 2 "--threads" "0" -- \
+  bake ambient-occlusion --threads 0 --out "$TMP/x.ao"
+run_case "bake ambient-occlusion --kappa nan" 2 "--kappa" "nan" -- bake ambient-occlusion --kappa nan --out "$TMP/x.ao"
+run_case "bake ambient-occlusion --yarn nosuch" 2 "nosuch" "${yarn_names[@]}" -- \
+  bake ambient-occlusion --yarn nosuch --out "$TMP/x.ao"
+run_case "bake ambient-occlusion --out <missing folder>" 2 "--out" "$TMP/no-such-folder" "does not exist" -- \
+  bake ambient-occlusion --size 8 --out "$TMP/no-such-folder/x.ao"
+run_case "bake ambient-occlusion --out <directory>" 2 "--out" "is a directory" -- \
+  bake ambient-occlusion --size 8 --out "$TMP"
+expect_absent "bake: rejected input (no output)" "$TMP/x.ao"
+run_case "bake --list" 0 -- bake --list
+if grep -q '^ambient-occlusion ' "$TMP/case.out"; then
+  passed=$((passed + 1))
+else
+  echo "FAIL  bake --list: no ambient-occlusion line"
+  failed=$((failed + 1))
+  failures+="  bake --list (output)\n"
+fi
+
 echo "$passed passed, $failed failed ($xfailed known gaps)"
 if [ "$failed" -ne 0 ]; then
   printf "failed:\n%b" "$failures"

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# bake_mpi_test.sh FIBERTWIN WITH_MPI — `fibertwin bake` across MPI ranks
+# (bake/bake_runner.h, docs/bakes.md):
+#   WITH_MPI=1: the AO bake under `mpirun -np 1, 2, 3` is byte for byte the
+#     one without mpirun (the determinism contract: `cmp` is the check); a
+#     failure planted on a worker rank and on rank 0's worker thread
+#     (FT_BAKE_FAIL_RANK) ends the job with the message, a non-zero status
+#     and no output, well within the timeout (no rank left waiting); an
+#     unwritable --out under mpirun names the option.
+#   WITH_MPI=0 (built without MPI): under mpirun the bake refuses to run.
+# Exit 77 (ctest SKIP_RETURN_CODE) only when mpirun is not installed.
+set -u
+
+if [ $# -ne 2 ]; then
+  echo "usage: $0 FIBERTWIN WITH_MPI(0|1)" >&2
+  exit 2
+fi
+FT=$1
+WITH_MPI=$2
+if ! command -v mpirun >/dev/null; then
+  echo "mpirun not installed (apt-get install openmpi-bin libopenmpi-dev): skipped"
+  exit 77
+fi
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/fibertwin-bake-mpi.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+
+# Root in CI; more ranks than cores on a 2-core machine. In containers without
+# ptrace rights Open MPI's single-copy shared memory (CMA) fails: plain copies.
+MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
+# 48² texels × 16 directions in 48 shards of one row: a fraction of a second.
+BAKE=(bake ambient-occlusion --yarn rayon2 --size 48 --directions 16 --rows-per-shard 1)
+
+failed=0
+fail() {
+  echo "FAIL  $1"
+  [ -n "${2:-}" ] && sed 's/^/        | /' "$2" | head -20
+  failed=$((failed + 1))
+}
+ok() { echo "ok    $1"; }
+
+if [ "$WITH_MPI" != 1 ]; then
+  timeout 60 "${MPIRUN[@]}" -np 2 "$FT" "${BAKE[@]}" --out "$TMP/x.ao" >"$TMP/out" 2>"$TMP/err"
+  rc=$?
+  if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "built without MPI" "$TMP/err" && [ ! -e "$TMP/x.ao" ]; then
+    ok "built without MPI: mpirun -np 2 refused (status $rc)"
+  else
+    fail "built without MPI: mpirun -np 2 gave status $rc" "$TMP/err"
+  fi
+  exit $((failed > 0))
+fi
+
+if "$FT" "${BAKE[@]}" --out "$TMP/one.ao" >"$TMP/out" 2>"$TMP/err"; then
+  ok "no mpirun: $(tail -1 "$TMP/out")"
+else
+  fail "no mpirun: status $?" "$TMP/err"
+  exit 1
+fi
+for np in 1 2 3; do
+  if timeout 120 "${MPIRUN[@]}" -np $np "$FT" "${BAKE[@]}" --out "$TMP/np$np.ao" >"$TMP/out" 2>"$TMP/err"; then
+    if cmp "$TMP/one.ao" "$TMP/np$np.ao"; then
+      ok "mpirun -np $np: identical to the run without mpirun: $(tail -1 "$TMP/out")"
+    else
+      fail "mpirun -np $np: output differs from the run without mpirun"
+    fi
+    grep -q "on $np rank" "$TMP/out" || fail "mpirun -np $np: the summary does not say $np ranks" "$TMP/out"
+  else
+    fail "mpirun -np $np: status $?" "$TMP/err"
+  fi
+done
+
+# A planted failure: rank 1 (a worker rank) and rank 0 (the coordinator's worker thread).
+for rank in 1 0; do
+  start=$(date +%s)
+  timeout 60 "${MPIRUN[@]}" -np 2 -x FT_BAKE_FAIL_RANK=$rank "$FT" "${BAKE[@]}" --out "$TMP/fail.ao" \
+    >"$TMP/out" 2>"$TMP/err"
+  rc=$?
+  secs=$(($(date +%s) - start))
+  if [ $rc -eq 124 ]; then
+    fail "failure on rank $rank: the job hung (killed after 60 s)" "$TMP/err"
+  elif [ $rc -eq 0 ]; then
+    fail "failure on rank $rank: status 0" "$TMP/err"
+  elif ! grep -q "rank $rank: bake ambient-occlusion: shard [0-9]* of 48: planted failure on rank $rank" "$TMP/err"; then
+    fail "failure on rank $rank: stderr lacks the rank, shard and message" "$TMP/err"
+  elif [ -e "$TMP/fail.ao" ] || [ -e "$TMP/fail.ao.part" ]; then
+    fail "failure on rank $rank: an output file was left"
+  else
+    ok "failure on rank $rank: status $rc after ${secs} s, message: $(grep -m1 'planted failure' "$TMP/err")"
+  fi
+done
+
+timeout 60 "${MPIRUN[@]}" -np 2 "$FT" "${BAKE[@]}" --out "$TMP/no-such-folder/x.ao" >"$TMP/out" 2>"$TMP/err"
+rc=$?
+if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q -- "--out: '$TMP/no-such-folder/x.ao'" "$TMP/err"; then
+  ok "mpirun -np 2 --out in a missing folder: status $rc, names --out"
+else
+  fail "mpirun -np 2 --out in a missing folder: status $rc" "$TMP/err"
+fi
+
+[ $failed -eq 0 ] && echo "bake_mpi_test: all passed" || echo "bake_mpi_test: $failed failed"
+exit $((failed > 0))
