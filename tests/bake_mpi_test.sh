@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # bake_mpi_test.sh FIBERTWIN WITH_MPI — `fibertwin bake` across MPI ranks
 # (bake/bake_runner.h, docs/bakes.md):
-#   WITH_MPI=1: the AO bake under `mpirun -np 1, 2, 3` is byte for byte the
-#     one without mpirun (the determinism contract: `cmp` is the check); a
+#   WITH_MPI=1: the AO bake under `mpirun -np 1, 2, 3` and the ξ bake
+#     (ds-correction) under `mpirun -np 2` are byte for byte the ones without mpirun (the determinism contract: `cmp` is the check); a
 #     failure planted on a worker rank and on rank 0's worker thread
 #     (FT_BAKE_FAIL_RANK) ends the job with the message, a non-zero status
 #     and no output, well within the timeout (no rank left waiting); an
@@ -68,6 +68,23 @@ for np in 1 2 3; do
     fail "mpirun -np $np: status $?" "$TMP/err"
   fi
 done
+
+# The path-traced bake of 001 §4.3 (ξ, one shard per light direction) at CI
+# size: its shards finish out of order across ranks; the file must not care.
+XI=(bake ds-correction --height 8 --theta-samples 4 --phi-samples 4 --spp 4 --periods 3)
+if "$FT" "${XI[@]}" --out "$TMP/xi-one.bin" >"$TMP/out" 2>"$TMP/err"; then
+  if timeout 120 "${MPIRUN[@]}" -np 2 "$FT" "${XI[@]}" --out "$TMP/xi-np2.bin" >"$TMP/out" 2>"$TMP/err"; then
+    if cmp "$TMP/xi-one.bin" "$TMP/xi-np2.bin"; then
+      ok "ds-correction, mpirun -np 2: identical to the run without mpirun: $(tail -1 "$TMP/out")"
+    else
+      fail "ds-correction, mpirun -np 2: output differs from the run without mpirun"
+    fi
+  else
+    fail "ds-correction, mpirun -np 2: status $?" "$TMP/err"
+  fi
+else
+  fail "ds-correction, no mpirun: status $?" "$TMP/err"
+fi
 
 # A planted failure: rank 1 (a worker rank) and rank 0 (the coordinator's worker thread).
 for rank in 1 0; do
