@@ -124,6 +124,7 @@ size_t DsCorrectionScene::segmentCount() const { return impl_->scene->segmentCou
 
 // t × ω_o = x × z = −y.
 glm::vec3 dsCorrectionLightDirection(float theta, float phi) {
+  if (ftFaultXiBakeLightMirrored) phi = -phi;
   return glm::vec3(std::sin(theta), -std::cos(theta) * std::sin(phi), std::cos(theta) * std::cos(phi));
 }
 

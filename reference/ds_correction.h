@@ -33,6 +33,11 @@
 
 namespace ft {
 
+// Planted fault (validation/faults.def "xi-bake-light-mirrored"): the bake
+// lights the yarn from the mirror side of the one it files the result under
+// (φ → −φ), as a sign slip in ω_d would.
+inline bool ftFaultXiBakeLightMirrored = false;
+
 struct DsCorrectionSettings {
   std::string yarn = "cotton1";   // preset (data/yarn-presets.tsv); its flyaways are left out
   std::vector<std::string> presetOverrides;  // "name=value" (overrideYarnPreset), applied first

@@ -50,6 +50,10 @@ constexpr double kCorrectedTolerance = 0.4;
 // The correction must more than halve plain dual scattering's error (0.84–0.95
 // → 0.23–0.34 measured: ratios 0.25–0.4).
 constexpr double kGainTolerance = 0.5;
+// C6 at the silhouettes under side light (φ = 90°, 270°, |θ| = 22.5°): the
+// outermost row with half coverage, a quarter of the yarn radius deep.
+constexpr double kLitEdgeTolerance = 0.5;
+constexpr double kFarEdgeTolerance = 0.3;
 // Ψ̄ is a mean of V + (1 − V) d_f ā_f^n ∈ [0, 1]; sums of ≤ 64 floats: 1e-6.
 constexpr double kPsiRangeTolerance = 1e-6;
 
@@ -131,6 +135,35 @@ CaseResult runBakeCase(ValidationContext& ctx, const YarnPreset& preset, const s
       }
     }
   }
+  // C6: a light from the side (φ = 90°: from −y, the texture's high rows;
+  // φ = 270°: from +y, its low rows) reaches the yarn's facing silhouette
+  // unshadowed and its far silhouette through the whole yarn. Per such
+  // direction, the mean Ψ̄ (green) of the outermost texel row with at least
+  // half coverage on each side.
+  const int nu = int(b.layout.size.x), nv = int(b.layout.size.y), nt = int(b.layout.size.z), np = int(b.layout.size.w);
+  double litEdge = 1.0, farEdge = 0.0;
+  const auto rowPsi = [&](const DsDirectionSums& s, int j) {
+    double psi = 0.0, hits = 0.0;
+    for (int i = 0; i < nu; ++i) {
+      psi += s.shadowing[size_t(j * nu + i)].y;
+      hits += s.hits[size_t(j * nu + i)];
+    }
+    return hits > 0.0 ? psi / hits : 1.0;
+  };
+  const auto rowCovered = [&](int j) { return t.coverage[size_t(j * nu + nu / 2)] >= 0.5f; };
+  int top = 0, bottom = nv - 1;
+  while (top < nv - 1 && !rowCovered(top)) ++top;
+  while (bottom > 0 && !rowCovered(bottom)) --bottom;
+  for (int a = 0; a < nt; ++a)
+    for (int b4 = 0; b4 < np; ++b4) {
+      const float phi = ftXiPhiSample(b4, np), theta = ftXiThetaSample(a, nt);
+      if (std::abs(theta) > 0.5f || (std::abs(phi - 0.5f * float(kPi)) > 1e-3f && std::abs(phi - 1.5f * float(kPi)) > 1e-3f))
+        continue;
+      const DsDirectionSums& s = b.sums[size_t(a * np + b4)];
+      const bool fromBelow = phi < float(kPi);  // light from −y: the high rows face it
+      litEdge = std::min(litEdge, rowPsi(s, fromBelow ? bottom : top));
+      farEdge = std::max(farEdge, rowPsi(s, fromBelow ? top : bottom));
+    }
   uint64_t nonFinite = nonFiniteOf(t.xiM) + nonFiniteOf(t.xiN) + nonFiniteOf(t.psiM) + nonFiniteOf(t.psiN);
   for (const DsDirectionSums& s : b.sums) nonFinite += nonFiniteOf(s.reference) + nonFiniteOf(s.shadowing) + nonFiniteOf(s.local);
   r.metrics = {
@@ -143,6 +176,12 @@ CaseResult runBakeCase(ValidationContext& ctx, const YarnPreset& preset, const s
              "|Σ runtime − Σ L_*| / Σ L_* over the covered texels (the image's total), mean over directions", false},
       Metric{"runtime.total_rel.max", total, 0.0, "relative", "the same, worst direction", false},
       Metric{"psi.range", psiViolation, kPsiRangeTolerance, "", "C6: Ψ̄ = mean of V + (1 − V) T_f(n) lies in [0, 1]"},
+      Metric{"psi.lit_edge.shadowed", 1.0 - litEdge, kLitEdgeTolerance, "1 − Ψ̄",
+             "C6: the silhouette row facing a side light is mostly unshadowed (measured Ψ̄ 0.74: the row is a "
+             "texel deep, W/4; some of its fibers lie behind others)"},
+      Metric{"psi.far_edge", farEdge, kFarEdgeTolerance, "Ψ̄",
+             "C6: the row away from it sees the light through the whole yarn (measured 0.08); a light on the "
+             "wrong side (the bake's φ sense flipped) swaps the two"},
       Metric{"ds.rel_l1", uncorrected, 0.0, "relative L1",
              "plain dual scattering against the path tracer, mean over directions (the fidelity figure before ξ)",
              false},

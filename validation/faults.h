@@ -15,6 +15,7 @@
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/yarn_frame.h"
+#include "reference/ds_correction.h"
 
 namespace ft {
 
@@ -55,6 +56,7 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SHADOW_MAP_NO_REMAP") ftFaultShadowMapNoRemap = on;
   if (define == "FT_FAULT_XI_AXES_SWAPPED") ftFaultXiAxesSwapped = on;
   if (define == "FT_FAULT_XI_PHI_CLAMPED") ftFaultXiPhiClamped = on;
+  if (define == "FT_FAULT_XI_BAKE_LIGHT_MIRRORED") ftFaultXiBakeLightMirrored = on;
   if (define == "FT_FAULT_DS_AB_DENOMINATOR") ftFaultDsAbDenominator = on;
   if (define == "FT_FAULT_DS_FORWARD_VARIANCE") ftFaultDsForwardVariance = on;
   if (define == "FT_FAULT_DS_HEMISPHERES_SWAPPED") ftFaultDsHemispheresSwapped = on;
