@@ -226,10 +226,6 @@ def sample(cands, n, seed):
     return chosen
 
 
-def is_knit(rel):
-    return "knit" in os.path.basename(rel)
-
-
 # Which checks can see a mutant, by file: the first rule whose pattern matches
 # the path (relative to the repository root) gives the harness cases and the
 # unit tests (oracles included) to run. One table, so a new algorithm's files
@@ -239,6 +235,11 @@ RULES = [
     (r"core_texture", "^(appearance/)?core-texture/", ["core_texture_test"]),
     (r"self_shadow", "^(selfshadow|appearance)/", ["self_shadow_test"]),
     (r"ambient_occlusion", "^ao/", ["ambient_occlusion_test"]),
+    # Dual scattering (001 §4.1) and its correction ξ (§4.3): ξ's bake reads the DS tables.
+    (r"ds_correction", "^xi/", ["ds_correction_test"]),
+    (r"dual_scattering", "^(ds|xi)/", ["dual_scattering_test", "ds_correction_test"]),
+    # The bake runner: its own tests (MPI byte-identity included).
+    (r"^bake/", None, ["bake_test"]),
     (r"yarn_density", "^(selfshadow|ao)/", ["yarn_density_test", "self_shadow_test", "ambient_occlusion_test"]),
     # The BCSDF and its tables: its cases (oracle included), the shading cases, its unit test.
     (r"bcsdf", "^(bcsdf|shading)/", ["bcsdf_test", "fiber_trace_test"]),
@@ -276,54 +277,6 @@ def checks_for(rel, args, copy, build):
     if not shader:  # only the harness runs shaders
         for u in units:
             out.append(("oracle" if u in ORACLES else "units", [os.path.join(tests, u), "--gtest_brief=1"], {}))
-    if is_core_texture(rel):  # the core-fiber texture bake: its cases and unit tests only
-        env = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")} if rel.startswith("gpu/shaders/") else {}
-        out = [("harness", [fib, "validate", "--no-images", "--filter", "^core-texture/", "--report", report]
-                + args.validate_args.split(), env)]
-        if not rel.startswith("gpu/shaders/"):
-            out.append(("units", [os.path.join(tests, "core_texture_test"), "--gtest_brief=1"], {}))
-        return out
-    knit = is_knit(rel) or rel.startswith("knit/")
-    fiber_file = not knit
-    filt = "knit" if knit else "fiber|frames|closeup|strip-width"
-    if rel.startswith("common/") and not knit and os.path.basename(rel) in ("prelude.h", "constants.h"):
-        filt = "."
-    ao = "ambient_occlusion" in os.path.basename(rel)  # 000 §4.2: the ao/ cases and their unit test
-    if ao:
-        filt = "^ao/"
-    harness = ["harness", [fib, "validate", "--no-images", "--filter", filt, "--report", report] + args.validate_args.split(), {}]
-    # The self-shadow texture (common/self_shadow.h, its bakes and shaders): its own cases and unit test.
-    if "self_shadow" in os.path.basename(rel):
-        harness[1][4] = "^selfshadow/"
-        if rel.startswith("gpu/shaders/"):
-            harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
-            return [tuple(harness)]
-        return [tuple(harness), ("units", [os.path.join(tests, "self_shadow_test"), "--gtest_brief=1"], {})]
-    # The yarn shadow map (common/shadow_map.h, its depth pass shaders, its Embree reference): its own cases.
-    if "shadow_map" in os.path.basename(rel):
-        harness[1][4] = "^shadowmap/"
-        if rel.startswith("gpu/shaders/"):
-            harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
-        return [tuple(harness)]
-    if rel.startswith("gpu/shaders/"):
-        harness[2] = {"FT_SHADER_DIR": os.path.join(copy, "gpu", "shaders")}
-        return [tuple(harness)]
-    out = [tuple(harness)]
-    if ao:
-        return out + [("units", [os.path.join(tests, "ambient_occlusion_test"), "--gtest_brief=1"], {})]
-    units, oracles = [], []
-    if fiber_file or filt == ".":
-        units += ["fiber_math_test", "fiber_reference_test"]
-        oracles += ["oracle_fiber_test"]
-    if knit or filt == "." or rel.startswith("reference/"):
-        units += ["knit_solver_test"]
-        oracles += ["oracle_knit_test"]
-    if rel in SCENE_UNITS:
-        units.append(SCENE_UNITS[rel])
-    for u in units:
-        out.append(("units", [os.path.join(tests, u), "--gtest_brief=1"], {}))
-    for o in oracles:
-        out.append(("oracle", [os.path.join(tests, o), "--gtest_brief=1"], {}))
     return out
 
 
