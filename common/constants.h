@@ -76,6 +76,16 @@
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/bcsdf.h)
 #define FT_SSBO_LOBE_NORM_TABLE 38 // vec2[FT_LOBE_NORM_TABLE_SIZE]: (Z_R, Z_TT) at ftLobeNormTexelAngle (common/bcsdf.h)
 
+// SRBF environment lighting (common/srbf.h, common/srbf_bcsdf.h; 001 §4.5):
+// UBO 13 and SSBO 51–55 are this group's (gpu/srbf_fit_gpu.h, gpu/srbf_table_gpu.h).
+#define FT_UBO_SRBF 13               // SrbfEnvironment: 16 lobes + the DC term
+#define FT_SSBO_SRBF_ENV_PIXELS 51   // vec4[W·H]: the equirect map's rgb, row 0 at the top
+#define FT_SSBO_SRBF_SUMS 52         // the fit's reductions: vec4 b_j (rgb) then float-in-vec4 K_ab
+#define FT_SSBO_SRBF_TABLE 53        // vec4[ftSrbfTableSize]: rgb I(θ_o, θ_j, Δφ, λ)
+#define FT_SSBO_SRBF_INPUT 54        // FabricParams, then vec4 requests (lookups)
+#define FT_SSBO_SRBF_OUTPUT 55       // vec4 results of lookups
+#define FT_WG_SRBF 64
+
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u

@@ -12,6 +12,8 @@
 #include "common/lod.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
+#include "common/srbf.h"
+#include "common/srbf_bcsdf.h"
 #include "common/yarn_frame.h"
 
 namespace ft {
@@ -51,6 +53,11 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_AO_LINEAR_VISIBILITY") ftFaultAoLinearVisibility = on;
   if (define == "FT_FAULT_SHADOW_MAP_FRONT_DEPTH") ftFaultShadowMapFrontDepth = on;
   if (define == "FT_FAULT_SHADOW_MAP_NO_REMAP") ftFaultShadowMapNoRemap = on;
+  if (define == "FT_FAULT_SRBF_SOLID_ANGLE_FLAT") ftFaultSrbfSolidAngleFlat = on;
+  if (define == "FT_FAULT_SRBF_PHI_MIRROR") ftFaultSrbfPhiMirror = on;
+  if (define == "FT_FAULT_SRBF_TABLE_NO_COSINE") ftFaultSrbfTableNoCosine = on;
+  if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
+  if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
