@@ -198,7 +198,7 @@ double srbfRelativeL2(const ImageRgbaF& env, const SrbfEnvironment& fit) {
   return ref > 0.0 ? std::sqrt(err / ref) : std::sqrt(err);
 }
 
-ImageRgbaF makeProceduralSky(int width, int height) {
+ImageRgbaF makeProceduralSky(int width, int height, bool withSun) {
   if (width < 2 || height < 2) throw std::invalid_argument("makeProceduralSky: the map needs 2 × 2 pixels at least");
   ImageRgbaF img(width, height);
   // Written with its own direction formula (the common/srbf.h convention):
@@ -220,7 +220,7 @@ ImageRgbaF makeProceduralSky(int width, int height) {
         const double t = std::min(1.0, -w.y * 8.0);  // a soft horizon band into the ground
         L = glm::mix(1.5 * horizon * 0.6, ground, t);
       }
-      L += sunPeak * std::exp(sunLambda * (glm::dot(sun, w) - 1.0)) * sunColour;
+      if (withSun) L += sunPeak * std::exp(sunLambda * (glm::dot(sun, w) - 1.0)) * sunColour;
       float* p = img.at(x, y);
       p[0] = float(L.x);
       p[1] = float(L.y);

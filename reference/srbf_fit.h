@@ -68,6 +68,7 @@ double srbfRelativeL2(const ImageRgbaF& env, const SrbfEnvironment& fit);
 // The procedural environment shipped as data/env/sky.exr (`fibertwin env-sky`):
 // an HDR sky gradient, a sun (a sharp SG, λ = 800, ∫ ≈ 2π per channel) and a
 // darker ground, W × H float rgb, alpha 1.
-ImageRgbaF makeProceduralSky(int width = 256, int height = 128);
+// withSun = false: the same map without the sun (docs/srbf.md's second fit error).
+ImageRgbaF makeProceduralSky(int width = 256, int height = 128, bool withSun = true);
 
 }  // namespace ft
