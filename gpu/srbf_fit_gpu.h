@@ -1,7 +1,9 @@
 // srbf_fit_gpu.h — the GPU side of the SRBF environment fit (001 §4.5 eq. 14;
 // common/srbf.h, reference/srbf_fit.h): srbf_fit_sums.comp.glsl reduces the
 // normal equations K (discrete Gram) and b over the pixels of an equirect map
-// in float, one invocation per sum (the O(pixels · 17²) part); the 17 × 17
+// in float, one invocation per sum (the O(pixels · 17²) part), in chunks of
+// rows (no invocation past gallivm's loop limit; the chunks added in double,
+// 1 chunk for maps up to 256 × 128); the 17 × 17
 // non-negative solve stays on the CPU (fitSrbfFromSums), as notes A9 says.
 #pragma once
 #include <glm/glm.hpp>

@@ -2,10 +2,13 @@
 // one invocation per sum, reduced over every pixel of the equirect map:
 //   q < count:            b_q = Σ_p dΩ_p L_p G_q(ω_p)        (rgb)
 //   q = count + a·count + b: K_ab = Σ_p dΩ_p G_a(ω_p) G_b(ω_p)  (x)
-// with the shared kernel, directions and solid angles of common/srbf.h. The
-// terms of one row are summed in order, the rows pairwise (a binary counter
-// of partial sums, as bcsdf_ambient.comp.glsl), so rounding grows with
-// log2(rows), not with the pixel count.
+// with the shared kernel, directions and solid angles of common/srbf.h, over
+// the rows [rowBegin, rowEnd) of one dispatch (the host splits the map so
+// that no invocation loops past gallivm's 65,535 iterations: docs/llvmpipe-notes.md,
+// and adds the chunks in double). The terms of one row are summed in order,
+// the rows pairwise (a binary counter of partial sums, as
+// bcsdf_ambient.comp.glsl), so rounding grows with log2(rows), not with the
+// pixel count.
 #include "common/constants.h"
 #include "common/srbf.h"
 #include "shaders/flat_dispatch.glsl"
@@ -17,6 +20,8 @@ layout(std430, binding = FT_SSBO_SRBF_SUMS) writeonly buffer Sums { vec4 sums[];
 uniform uint groupsX;
 uniform uint width;
 uniform uint height;
+uniform uint rowBegin;
+uniform uint rowEnd;
 uniform uint count;          // basis functions: 16 lobes, then the DC term if present
 
 float basisValue(uint j, vec3 w) {
@@ -31,7 +36,9 @@ void main() {
   uint a = isRhs ? q : (q - count) / count;
   uint b = isRhs ? 0u : (q - count) % count;
   vec4 partial[32];
-  for (uint y = 0u; y < height; ++y) {
+  uint rows = rowEnd - rowBegin;
+  for (uint r = 0u; r < rows; ++r) {
+    uint y = rowBegin + r;
     float dOmega = ftEquirectSolidAngle(int(y), int(width), int(height));
     vec4 row = vec4(0.0);
     for (uint x = 0u; x < width; ++x) {
@@ -42,11 +49,11 @@ void main() {
     }
     vec4 v = row * dOmega;
     uint level = 0u;
-    for (uint n = y; (n & 1u) != 0u; n >>= 1u) v += partial[level++];
+    for (uint n = r; (n & 1u) != 0u; n >>= 1u) v += partial[level++];
     partial[level] = v;
   }
   vec4 sum = vec4(0.0);
   for (uint level = 0u; level < 32u; ++level)
-    if ((height & (1u << level)) != 0u) sum += partial[level];
+    if ((rows & (1u << level)) != 0u) sum += partial[level];
   sums[q] = sum;
 }
