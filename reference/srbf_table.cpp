@@ -103,6 +103,7 @@ SrbfTableCpu bakeSrbfTableCpu(const FabricParams& fabric, glm::ivec4 dims) {
     out.values[size_t(i)] = v.r + v.tt;
   });
   out.errorEstimate = *std::max_element(errors.begin(), errors.end());
+  out.errors = std::move(errors);
   return out;
 }
 

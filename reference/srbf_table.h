@@ -36,7 +36,8 @@ inline constexpr glm::ivec4 kSrbfTableCiDims{8, 8, 4, 4};
 struct SrbfTableCpu {
   glm::ivec4 dims{0};
   std::vector<glm::dvec3> values;  // at ftSrbfTableIndex
-  double errorEstimate = 0.0;      // the largest relative Gauss–Kronrod estimate of any texel
+  std::vector<double> errors;      // per texel: its Gauss–Kronrod error estimate relative to its value
+  double errorEstimate = 0.0;      // the largest of them (large only where I underflows float: < 1e-38)
   std::vector<glm::vec3> asFloat() const;
 };
 // Every texel at (ftSrbfTableTheta, ftSrbfTableTheta, ftSrbfTableDeltaPhi,
