@@ -2,8 +2,9 @@
 // reference (`validate`), render a yarn model on the GPU (`render`) and its
 // Embree ground truth (`trace`), compare two images (`compare`), optimize a
 // deformed stitch mesh into yarn curves (`knit`), describe the GL renderer
-// (`info`), list injectable faults (`faults`) and run the sharded bakes of
-// bake/bakes.def, in one process or across MPI ranks (`bake`).
+// (`info`), list injectable faults (`faults`), run the sharded bakes of
+// bake/bakes.def in one process or across MPI ranks (`bake`) and write the
+// procedural environment map of the SRBF fit (`env-sky`).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -13,6 +14,8 @@
 #include <map>
 
 #include "gpu/gl_context.h"
+#include "image/image_io.h"
+#include "reference/srbf_fit.h"
 #include "scene/bcc_reader.h"
 #include "scene/camera.h"
 #include "scene/default_scene.h"
@@ -319,6 +322,14 @@ int main(int argc, char** argv) {
   auto* info = app.add_subcommand("info", "print the GL renderer and its limits");
   info->add_option("--backend", backend, "GL backend");
   app.add_subcommand("faults", "list the faults --inject can plant");
+  std::string envSkyOut = "data/env/sky.exr";
+  int envSkyWidth = 256, envSkyHeight = 128;
+  auto* envSky = app.add_subcommand(
+      "env-sky", "write the procedural HDR environment map (sky, sun, ground; float EXR, equirect, y up: docs/srbf.md) "
+                 "and print its SRBF fit error");
+  envSky->add_option("--out", envSkyOut, "EXR to write")->capture_default_str();
+  envSky->add_option("--width", envSkyWidth)->capture_default_str()->check(CLI::Range(8, 8192));
+  envSky->add_option("--height", envSkyHeight)->capture_default_str()->check(CLI::Range(4, 4096));
 
   ft::CompareCommandOptions compareOptions;
   CLI::App* compare = ft::addCompareCommand(app, compareOptions);
@@ -361,6 +372,15 @@ int main(int argc, char** argv) {
     }
     if (app.got_subcommand("faults")) {
       for (const ft::Fault& f : ft::kFaults) std::cout << fmt::format("{:<16} {}\n", f.name, f.description);
+      return 0;
+    }
+    if (envSky->parsed()) {
+      const ft::ImageRgbaF sky = ft::makeProceduralSky(envSkyWidth, envSkyHeight);
+      ft::writeExr(envSkyOut, sky, ft::ExrPixelType::Float);
+      const ft::SrbfFit fit = ft::fitSrbfCpu(sky);
+      std::cout << fmt::format("wrote {} ({} x {}); 16-lobe + DC SRBF fit: relative L2 error {:.4f}, {} lobes active\n",
+                               envSkyOut, envSkyWidth, envSkyHeight, ft::srbfRelativeL2(sky, fit.environment),
+                               fit.activeLobes);
       return 0;
     }
     if (render->parsed()) {

@@ -85,11 +85,22 @@
 #define FT_SSBO_XI_PSI_N 48        // vec4[N_φ][N_v][N_u]: rgb Ψ_{G,N}^Fiber
 #define FT_SSBO_XI_REQUESTS 49     // vec4 (u, v, θ, φ) per lookup request (harness)
 #define FT_SSBO_XI_RESULTS 50      // vec4 rgb ξ_M ξ_N Ψ_M Ψ_N per request
+
 // Dual scattering (common/dual_scattering.h, gpu/dual_scattering_gpu.h; Zinke
 // et al. 2008 as 001 §4.1 uses it): SSBO 42–44 are this group's.
 #define FT_SSBO_DS_INPUT 42        // FabricParams, then vec4 requests (evaluation: 2 per request)
 #define FT_SSBO_DS_TABLE 43        // vec4[FT_DS_ROWS·N]: the table, texel-major (common/dual_scattering.h)
 #define FT_SSBO_DS_OUTPUT 44       // bake: vec4[(FT_DS_ROWS + 4)·N]; evaluation: vec4[6] per request
+
+// SRBF environment lighting (common/srbf.h, common/srbf_bcsdf.h; 001 §4.5):
+// UBO 13 and SSBO 51–55 are this group's (gpu/srbf_fit_gpu.h, gpu/srbf_table_gpu.h).
+#define FT_UBO_SRBF 13               // SrbfEnvironment: 16 lobes + the DC term
+#define FT_SSBO_SRBF_ENV_PIXELS 51   // vec4[W·H]: the equirect map's rgb, row 0 at the top
+#define FT_SSBO_SRBF_SUMS 52         // the fit's reductions: vec4 b_j (rgb) then float-in-vec4 K_ab
+#define FT_SSBO_SRBF_TABLE 53        // vec4[ftSrbfTableSize]: rgb I(θ_o, θ_j, Δφ, λ)
+#define FT_SSBO_SRBF_INPUT 54        // FabricParams, then vec4 requests (lookups)
+#define FT_SSBO_SRBF_OUTPUT 55       // vec4 results of lookups
+#define FT_WG_SRBF 64
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u

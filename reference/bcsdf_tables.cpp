@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 namespace ft {
@@ -68,9 +69,7 @@ constexpr double kRelativeTolerance = 1e-9;
 constexpr double kIntegrandRounding = 8.0 * FLT_EPSILON;
 constexpr double kMinPieceLobes = 1.0 / 16.0;
 constexpr size_t kMaxPieces = 4000;  // per texel, a safeguard
-struct Lobe {
-  glm::dvec3 r, tt;
-};
+using Lobe = LobeValues;
 
 struct Piece {
   Lobe value, error, absValue;
@@ -89,14 +88,16 @@ Lobe integrand(const FabricParams& p, float thetaO, double thetaI) {
   return out;
 }
 
-Piece gaussKronrod(const FabricParams& p, float thetaO, double a, double b) {
+using Integrand = std::function<Lobe(double)>;
+
+Piece gaussKronrod(const Integrand& fn, double a, double b) {
   const double c = 0.5 * (a + b), h = 0.5 * (b - a);
-  const Lobe fc = integrand(p, thetaO, c);
+  const Lobe fc = fn(c);
   Lobe k{fc.r * kWk[7], fc.tt * kWk[7]}, g{fc.r * kWg[3], fc.tt * kWg[3]};
   Lobe abs{glm::abs(fc.r) * kWk[7], glm::abs(fc.tt) * kWk[7]};
   for (int j = 0; j < 7; ++j) {
     const double d = h * kXk[j];
-    const Lobe f1 = integrand(p, thetaO, c - d), f2 = integrand(p, thetaO, c + d);
+    const Lobe f1 = fn(c - d), f2 = fn(c + d);
     k.r += kWk[j] * (f1.r + f2.r);
     k.tt += kWk[j] * (f1.tt + f2.tt);
     abs.r += kWk[j] * (glm::abs(f1.r) + glm::abs(f2.r));
@@ -127,16 +128,12 @@ bool resolved(const Piece& p, double a, double b, double minWidth) {
 // the largest error, relative to the tolerance of its channel, until the
 // summed Gauss–Kronrod estimates of the unresolved pieces are below
 // kRelativeTolerance of the integral in every channel.
-struct Integration {
-  Lobe value, error;
-  size_t evaluations = 0;
-};
+using Integration = LobeIntegral;
 
-Integration integrateTexel(const FabricParams& p, float thetaO, const std::vector<double>& cuts) {
-  const double minWidth = kMinPieceLobes * std::min(double(p.colorR.w), double(p.colorTT.w));
+Integration integratePieces(const Integrand& fn, const std::vector<double>& cuts, double minWidth) {
   std::vector<Interval> pieces;
   for (size_t i = 0; i + 1 < cuts.size(); ++i) {
-    const Piece piece = gaussKronrod(p, thetaO, cuts[i], cuts[i + 1]);
+    const Piece piece = gaussKronrod(fn, cuts[i], cuts[i + 1]);
     pieces.push_back({cuts[i], cuts[i + 1], piece, resolved(piece, cuts[i], cuts[i + 1], minWidth)});
   }
   const auto sum = [&](bool onlyUnresolved, bool errors) {
@@ -167,7 +164,7 @@ Integration integrateTexel(const FabricParams& p, float thetaO, const std::vecto
         worstScore = score(pieces[i].piece.error);
       }
     const double a = pieces[worst].a, b = pieces[worst].b, m = 0.5 * (a + b);
-    const Piece left = gaussKronrod(p, thetaO, a, m), right = gaussKronrod(p, thetaO, m, b);
+    const Piece left = gaussKronrod(fn, a, m), right = gaussKronrod(fn, m, b);
     pieces[worst] = {a, m, left, resolved(left, a, m, minWidth)};
     pieces.push_back({m, b, right, resolved(right, m, b, minWidth)});
   }
@@ -178,7 +175,20 @@ Integration integrateTexel(const FabricParams& p, float thetaO, const std::vecto
   return out;
 }
 
+Integration integrateTexel(const FabricParams& p, float thetaO, const std::vector<double>& cuts) {
+  const double minWidth = kMinPieceLobes * std::min(double(p.colorR.w), double(p.colorTT.w));
+  return integratePieces([&](double x) { return integrand(p, thetaO, x); }, cuts, minWidth);
+}
+
 }  // namespace
+
+LobeIntegral integrateLobesAdaptive(const std::function<LobeValues(double)>& f, std::vector<double> cuts,
+                                    double minWidth) {
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end(), [](double a, double b) { return b - a < 1e-12; }), cuts.end());
+  if (cuts.size() < 2) throw std::invalid_argument("integrateLobesAdaptive: need an interval");
+  return integratePieces(f, cuts, minWidth);
+}
 
 AmbientTableCpu bakeAmbientTableCpuParts(const FabricParams& fabric, int texels) {
   if (texels < 2) throw std::invalid_argument("bakeAmbientTableCpu: need at least 2 texels");

@@ -4,6 +4,7 @@
 // integrated by adaptive Gauss–Kronrod quadrature accumulated in double.
 #pragma once
 #include <glm/glm.hpp>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -35,6 +36,22 @@ struct AmbientTableCpu {
   size_t evaluations = 0;  // integrand evaluations, all texels
   std::vector<glm::dvec3> total() const;
 };
+
+// The adaptive quadrature of the ambient table, for other integrals over θ_i
+// of an R and a TT part (reference/srbf_table.cpp): global adaptive G7–K15
+// (QUADPACK QAG's strategy) in double over [cuts.front(), cuts.back()], split
+// at every cut, until the summed error estimates are below 1e-9 of each
+// channel's integral, or a piece is narrower than minWidth or resolved to the
+// float rounding of the integrand (8 ε_float of its ∫|f|).
+struct LobeValues {
+  glm::dvec3 r, tt;
+};
+struct LobeIntegral {
+  LobeValues value, error;
+  size_t evaluations = 0;
+};
+LobeIntegral integrateLobesAdaptive(const std::function<LobeValues(double)>& f, std::vector<double> cuts,
+                                    double minWidth);
 
 // The integrand (float, the header's ftFiberFresnel and ftLongitudinal) is
 // integrated over θ_i by adaptive G7–K15 in double, with breakpoints at

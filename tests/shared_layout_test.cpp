@@ -19,6 +19,7 @@
 #include "common/knit_stitch.h"
 #include "common/occlusion_cull.h"
 #include "common/shadow_map.h"
+#include "common/srbf.h"
 #include "common/view_params.h"
 #include "common/yarn_buffers.h"
 #include "common/yarn_params.h"
@@ -72,6 +73,12 @@ namespace {
   X(halfWidth) X(kappa) X(densityResolution) X(marchStep)
 #define FT_SHADOW_MAP_PARAMS_MEMBERS(X) X(lightX) X(lightY) X(lightZ) X(extent) X(tube) X(count)
 #define FT_OCCLUSION_PYRAMID_MEMBERS(X) X(size) X(level)
+#define FT_SRBF_ENVIRONMENT_MEMBERS(X) \
+  X(lobes[0].axisLambda) X(lobes[0].weight) X(lobes[1].axisLambda) X(lobes[1].weight) X(lobes[2].axisLambda) X(lobes[2].weight) X(lobes[3].axisLambda) X(lobes[3].weight) \
+   X(lobes[4].axisLambda) X(lobes[4].weight) X(lobes[5].axisLambda) X(lobes[5].weight) X(lobes[6].axisLambda) X(lobes[6].weight) X(lobes[7].axisLambda) X(lobes[7].weight) \
+   X(lobes[8].axisLambda) X(lobes[8].weight) X(lobes[9].axisLambda) X(lobes[9].weight) X(lobes[10].axisLambda) X(lobes[10].weight) X(lobes[11].axisLambda) X(lobes[11].weight) \
+   X(lobes[12].axisLambda) X(lobes[12].weight) X(lobes[13].axisLambda) X(lobes[13].weight) X(lobes[14].axisLambda) X(lobes[14].weight) X(lobes[15].axisLambda) X(lobes[15].weight) \
+  X(constant)
 // clang-format on
 
 struct Member {
@@ -129,6 +136,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(ShadowMapParams, FT_SHADOW_MAP_PARAMS_MEMBERS, "ShadowMapBlock", "shadowMapParams",
                       FT_UBO_SHADOW_MAP),
       FT_UNIFORM_CASE(OcclusionPyramid, FT_OCCLUSION_PYRAMID_MEMBERS, "OcclusionBlock", "pyramid", FT_UBO_OCCLUSION),
+      FT_UNIFORM_CASE(SrbfEnvironment, FT_SRBF_ENVIRONMENT_MEMBERS, "SrbfBlock", "srbf", FT_UBO_SRBF),
   };
 }
 

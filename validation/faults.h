@@ -14,6 +14,8 @@
 #include "common/lod.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
+#include "common/srbf.h"
+#include "common/srbf_bcsdf.h"
 #include "common/yarn_frame.h"
 #include "reference/ds_correction.h"
 
@@ -61,6 +63,11 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_DS_FORWARD_VARIANCE") ftFaultDsForwardVariance = on;
   if (define == "FT_FAULT_DS_HEMISPHERES_SWAPPED") ftFaultDsHemispheresSwapped = on;
   if (define == "FT_FAULT_DS_BETA_THETA_O") ftFaultDsBetaThetaO = on;
+  if (define == "FT_FAULT_SRBF_SOLID_ANGLE_FLAT") ftFaultSrbfSolidAngleFlat = on;
+  if (define == "FT_FAULT_SRBF_PHI_MIRROR") ftFaultSrbfPhiMirror = on;
+  if (define == "FT_FAULT_SRBF_TABLE_NO_COSINE") ftFaultSrbfTableNoCosine = on;
+  if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
+  if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
 }
 
 inline const Fault* findFault(std::string_view name) {

@@ -14,6 +14,7 @@
 #include "common/ambient_occlusion.h"
 #include "common/shadow_map.h"
 #include "common/occlusion_cull.h"
+#include "common/srbf.h"
 
 layout(local_size_x = 1) in;
 
@@ -45,6 +46,7 @@ layout(std140, binding = FT_UBO_AMBIENT_OCCLUSION) uniform AoBlock { AmbientOccl
 layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionParams aoCopy; };
 layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMapParams; };
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
+layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -71,4 +73,7 @@ void main() {
   // Read, so the block is active (the storage-block limit, 16, leaves no room for a copy).
   if (shadowMapParams.count.w == 0xFFFFFFFFu) aoCopy.seed = ao.seed;  // the same value either way
   if (pyramid.size.w == 0xFFFFFFFFu && pyramid.level[FT_OCCLUSION_MAX_LEVELS - 1].w == 0u) aoCopy.seed = ao.seed;
+  float srbfSum = srbf.constant.x;  // every lobe member read, so each is an active resource
+  for (int j = 0; j < FT_SRBF_LOBES; ++j) srbfSum += srbf.lobes[j].axisLambda.x + srbf.lobes[j].weight.x;
+  if (srbfSum == -12345.0) aoCopy.seed = ao.seed;
 }
