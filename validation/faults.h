@@ -59,6 +59,7 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_DS_FORWARD_VARIANCE") ftFaultDsForwardVariance = on;
   if (define == "FT_FAULT_DS_HEMISPHERES_SWAPPED") ftFaultDsHemispheresSwapped = on;
   if (define == "FT_FAULT_DS_BETA_THETA_O") ftFaultDsBetaThetaO = on;
+  if (define == "FT_FAULT_FRAME_DS_UNSCALED") ftFaultFrameDsUnscaled = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
