@@ -48,6 +48,9 @@ void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const A
   in.params.flags.w |= FT_APPEARANCE_SHADOW_MAP;
 }
 
+// Below this coverage a texel of a ξ bake is not applied (frameDsCorrection).
+constexpr float kFrameXiMinCoverage = 0.5f;
+
 void frameDsCorrection(ShadingInputs& in, const YarnPreset* preset, const AppearanceOptions& o) {
   if (!o.dualScattering && !o.dsCorrectionFile) return;
   in.params.flags.w |= FT_APPEARANCE_DUAL_SCATTERING;
@@ -85,6 +88,16 @@ void frameDsCorrection(ShadingInputs& in, const YarnPreset* preset, const Appear
   // The bake is at the preset's own scale; the frame's preset is fitted to the
   // model (scene/yarn_radius.h): P and W scale with it.
   const float scale = ftFaultFrameDsUnscaled ? 1.0f : float(preset->yarnAlpha) / t.layout.yarn.x;
+  // Rim texels that under half of their camera samples hit are taken as
+  // uncovered (ξ = Ψ = 1, as the bake leaves texels no sample hits): their
+  // rank-1 fits rest on a few samples and ran to factors of 1e7–1e12 in the
+  // CI-size bake, which the trilinear lookup then mixes into covered pixels.
+  const size_t texels = size_t(t.layout.size.x) * t.layout.size.y;
+  for (size_t k = 0; k < texels && k < t.coverage.size(); ++k) {
+    if (t.coverage[k] >= kFrameXiMinCoverage) continue;
+    for (uint32_t a = 0; a < t.layout.size.z; ++a) t.xiM[a * texels + k] = t.psiM[a * texels + k] = glm::vec4(1, 1, 1, 0);
+    for (uint32_t b = 0; b < t.layout.size.w; ++b) t.xiN[b * texels + k] = t.psiN[b * texels + k] = glm::vec4(1, 1, 1, 0);
+  }
   in.dsCorrection = t.layout;
   in.dsCorrection.yarn.x *= scale;
   in.dsCorrection.yarn.y *= scale;
