@@ -260,6 +260,12 @@ int main(int argc, char** argv) {
                    "without the yarn shadow map of 000 §4.1 (yarns shadowing other yarns)");
   render->add_option("--shadow-map-size", ro.appearance.shadowMapSize,
                      "shadow-map texels per side, per light (default 2048)");
+  render->add_flag("--dual-scattering", ro.appearance.dualScattering,
+                   "dual scattering (Zinke 2008, 001 §4.1 eq. 8) per light: f + d_b f_back^dir (docs/shaded-frame.md)");
+  std::string renderDsCorrection;
+  render->add_option("--ds-correction", renderDsCorrection,
+                     "with --dual-scattering (implied): the ξ and Ψ_G^Fiber bake of `fibertwin bake ds-correction` "
+                     "(001 eq. 11), for the frame's yarn preset and fabric; its Ψ_G^Fiber replaces the self-shadow T");
   render->add_option("--backend", backend, "GL backend");
   render->add_option("--inject", ro.inject,
                      "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");
@@ -388,6 +394,10 @@ int main(int argc, char** argv) {
       if (ro.preview && ro.view.out.extension() == ".exr") ro.view.out.replace_extension(".png");
       ro.backend = parseBackend(backend);
       ro.appearance.ao = ft::parseAoMode(renderAo);
+      if (!renderDsCorrection.empty()) {
+        ro.appearance.dsCorrectionFile = renderDsCorrection;
+        ro.appearance.dualScattering = true;
+      }
       return ft::runRenderCommand(ro, std::cout);
     }
     if (trace->parsed()) {

@@ -75,6 +75,15 @@
 #define FT_UBO_SHADING 4           // ShadingParams (common/fiber_shading.h)
 #define FT_SSBO_AMBIENT_TABLE 21   // vec4[FT_AMBIENT_TABLE_SIZE]: rgb A(θ_k) (common/bcsdf.h)
 #define FT_SSBO_LOBE_NORM_TABLE 38 // vec2[FT_LOBE_NORM_TABLE_SIZE]: (Z_R, Z_TT) at ftLobeNormTexelAngle (common/bcsdf.h)
+// Dual scattering in the frame (FT_APPEARANCE_DUAL_SCATTERING): SSBO 56–60
+// (51–55 are reserved for the SRBF work). The frame's ξ layout uses the ξ
+// group's UBO slot FT_UBO_XI, bound by FiberRenderer before each shaded draw
+// (the harness evaluator binds its own before each dispatch).
+#define FT_SSBO_FRAME_DS_TABLE 56  // vec4[FT_DS_ROWS·FT_DS_TABLE_SIZE]: the DS table (common/dual_scattering.h)
+#define FT_SSBO_FRAME_XI_M 57      // vec4[N_θ][N_v][N_u]: rgb ξ_M, scaled layout (common/ds_correction.h)
+#define FT_SSBO_FRAME_XI_N 58      // vec4[N_φ][N_v][N_u]: rgb ξ_N
+#define FT_SSBO_FRAME_PSI_M 59     // vec4[N_θ][N_v][N_u]: rgb Ψ_{G,M}^Fiber
+#define FT_SSBO_FRAME_PSI_N 60     // vec4[N_φ][N_v][N_u]: rgb Ψ_{G,N}^Fiber
 
 // Dual-scattering correction ξ and fiber-level shadowing (common/ds_correction.h,
 // 001 §4.3): UBO 12 and SSBO 45–50 are this group's.

@@ -26,6 +26,9 @@
 namespace ft {
 inline bool ftFaultXiAxesSwapped = false;
 inline bool ftFaultXiPhiClamped = false;
+// The frame's ξ layout left at the bake's (preset's own) scale instead of the
+// model's (scene/shading_inputs.cpp frameDsCorrection; host side only).
+inline bool ftFaultFrameDsUnscaled = false;
 }
 #define FT_FAULT_XI_AXES_SWAPPED_ON ::ft::ftFaultXiAxesSwapped
 #define FT_FAULT_XI_PHI_CLAMPED_ON ::ft::ftFaultXiPhiClamped

@@ -40,6 +40,11 @@ inline bool ftFaultShadingCosDropped = false;
 #define FT_APPEARANCE_AO_FIT 4u       // 000 §4.2 AO, distance-based cubic (common/ambient_occlusion.h)
 #define FT_APPEARANCE_AO_TEXTURE 8u   // 000 §4.2 AO, the rotated 2D texture
 #define FT_APPEARANCE_SHADOW_MAP 16u  // 000 §4.1 yarn shadow map (common/shadow_map.h)
+// 001 §4.1 eq. 8 dual scattering (common/dual_scattering.h) with the runtime of
+// 001 eq. 11 (common/ds_correction.h); with DS_CORRECTION a ξ/Ψ_G^Fiber bake
+// is bound, whose Ψ_G^Fiber replaces the self-shadow T (docs/shaded-frame.md).
+#define FT_APPEARANCE_DUAL_SCATTERING 32u
+#define FT_APPEARANCE_DS_CORRECTION 64u
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 // Texels per lobe of the lobe-normalisation table Z_p(|θ_i|) (bcsdf.h).

@@ -78,7 +78,8 @@ GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass 
     stages.files.push_back("shaders/fiber_strip.frag.glsl");
     std::vector<std::string> defines = defines_;
     defines.insert(defines.end(), stages.defines.begin(), stages.defines.end());
-    if (pass != StripPass::Shaded) defines.push_back("FT_OCCLUDER_PASS");
+    if (pass == StripPass::ShadedDualScattering) defines.push_back("FT_FRAME_DUAL_SCATTERING");
+    else if (pass != StripPass::Shaded) defines.push_back("FT_OCCLUDER_PASS");
     if (pass == StripPass::PlainOccluders) defines.push_back("FT_OCCLUDER_PLAIN");
     p = Program(buildProgram(stages.files, defines));
   }
@@ -108,6 +109,13 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   // Ambient occlusion (000 §4.2): its params (with the cubic) and texture.
   aoUbo_ = makeBuffer(sizeof(AmbientOcclusionParams), &inputs.aoParams);
   aoTexels_ = makeBuffer(inputs.aoTexels.size() * sizeof(float), inputs.aoTexels.data());
+  // Dual scattering (001 §4.1, §4.3): empty buffers (16 bytes) when off.
+  dsTable_ = makeBuffer(inputs.dsTable.size() * sizeof(glm::vec4), inputs.dsTable.data());
+  xiUbo_ = makeBuffer(sizeof(DsCorrectionLayout), &inputs.dsCorrection);
+  xiM_ = makeBuffer(inputs.xiM.size() * sizeof(glm::vec4), inputs.xiM.data());
+  xiN_ = makeBuffer(inputs.xiN.size() * sizeof(glm::vec4), inputs.xiN.data());
+  psiM_ = makeBuffer(inputs.psiM.size() * sizeof(glm::vec4), inputs.psiM.data());
+  psiN_ = makeBuffer(inputs.psiN.size() * sizeof(glm::vec4), inputs.psiN.data());
 }
 
 // ---- Yarn shadow map (000 §4.1 last paragraph; common/shadow_map.h) ----
@@ -207,6 +215,14 @@ void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_CORE_TEX1, coreTex1_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_AMBIENT_OCCLUSION, aoUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AO_TEXTURE, aoTexels_.id());
+  // Dual scattering: the ξ layout at the ξ group's UBO (bound here for each
+  // shaded draw; the harness evaluator binds its own before each dispatch).
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_DS_TABLE, dsTable_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_XI, xiUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_XI_M, xiM_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_XI_N, xiN_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_PSI_M, psiM_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_PSI_N, psiN_.id());
   if (shadowTexels_) {  // yarn shadow map (drawShadowMap)
     glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, shadowUbo_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SHADOW_MAP, shadowTexels_.id());
@@ -301,7 +317,9 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   };
   if (timings) *timings = FrameTimings{};
   double building = 0;
-  const GLuint prog = program(fibers, path);
+  const GLuint prog = program(fibers, path,
+                              (inputs_.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u ? StripPass::ShadedDualScattering
+                                                                                              : StripPass::Shaded);
   phase(building);  // a program's first build is not a phase of the frame
   if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u &&
       ((shadowModel_ != fibers.modelVersion() && !faultShadowMapStale_) || shadowInputs_ != inputsVersion_ ||

@@ -103,7 +103,9 @@ class FiberRenderer {
 
  private:
   // Built on first use per path and pass (common/occlusion_cull.h).
-  enum class StripPass { Shaded, PlainOccluders, CoreOccluders };
+  // ShadedDualScattering: the shaded pass with FT_FRAME_DUAL_SCATTERING, so
+  // that frames without it do not pay for it (llvmpipe runs every branch).
+  enum class StripPass { Shaded, PlainOccluders, CoreOccluders, ShadedDualScattering };
   GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded);
   void bindShading() const;
   // The occluder pass and its depth pyramid into occlusionTexels_; binds the
@@ -112,7 +114,7 @@ class FiberRenderer {
   void bindOcclusion(bool enabled);
 
   std::vector<std::string> defines_;
-  Program programs_[2][3];  // [path][StripPass]
+  Program programs_[2][4];  // [path][StripPass]
   // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
   bool occlusionCull_ = true;
   Program pyramidProgram_;
@@ -124,6 +126,8 @@ class FiberRenderer {
   Buffer shadingUbo_, ambientTable_, lobeNormTable_, selfShadowUbo_, selfShadowTexels_;
   Buffer coreTextureUbo_, coreTex0_, coreTex1_;  // 000 §3.2 core-fiber texture
   Buffer aoUbo_, aoTexels_;  // ambient occlusion (000 §4.2)
+  // Dual scattering (001 §4.1, §4.3): the DS table, the ξ layout, the four ξ textures.
+  Buffer dsTable_, xiUbo_, xiM_, xiN_, psiM_, psiN_;
   // Yarn shadow map: depth pass program, target, and the depth copied to an SSBO for the frame.
   Program shadowProgram_;
   Texture shadowDepth_;

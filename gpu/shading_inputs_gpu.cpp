@@ -9,7 +9,7 @@
 namespace ft {
 
 ShadingBakeGpu::ShadingBakeGpu(const GlInfo& gl, const std::vector<std::string>& defines)
-    : bcsdf_(gl, defines), selfShadow_(gl, defines), coreTexture_(gl, defines), ao_(gl, defines) {}
+    : bcsdf_(gl, defines), selfShadow_(gl, defines), coreTexture_(gl, defines), ao_(gl, defines), gl_(gl), defines_(defines) {}
 
 ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
   ShadingInputs in;
@@ -48,6 +48,13 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
   if (request.appearance.shadowMap) {  // yarn shadow map (000 §4.1): drawn per frame, nothing to bake
     if (!request.fittedPreset) throw std::invalid_argument("ShadingBakeGpu: the shadow map needs the yarn preset");
     frameShadowMap(in, makeYarnDensity(*request.fittedPreset), request.appearance);
+  }
+  // Dual scattering (001 §4.1, §4.3): the GPU's own table (float quadrature),
+  // the ξ textures of the bake file scaled to the model, or identity.
+  frameDsCorrection(in, request.fittedPreset, request.appearance);
+  if ((in.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u) {
+    if (!ds_) ds_ = std::make_unique<DualScatteringGpu>(gl_, defines_);
+    in.dsTable = ds_->bakeTable(request.params.fabric).rows;
   }
   checkShadingInputs(in);
   return in;

@@ -4,12 +4,14 @@
 // paper's density grid and prefix sum). The renderer (gpu/fiber_renderer.h)
 // draws with what this returns.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "gpu/ambient_occlusion_gpu.h"
 #include "gpu/bcsdf_gpu.h"
 #include "gpu/core_texture_gpu.h"
+#include "gpu/dual_scattering_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/self_shadow_gpu.h"
 #include "scene/shading_inputs.h"
@@ -27,6 +29,10 @@ class ShadingBakeGpu {
   SelfShadowGpu selfShadow_;
   CoreTextureGpu coreTexture_;
   AmbientOcclusionGpu ao_;
+  // The DS table's kernels, built on the first frame that asks for dual scattering.
+  const GlInfo& gl_;
+  std::vector<std::string> defines_;
+  std::unique_ptr<DualScatteringGpu> ds_;
 };
 
 }  // namespace ft

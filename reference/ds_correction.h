@@ -29,6 +29,7 @@
 
 #include "common/ds_correction.h"
 #include "common/fiber_shading.h"
+#include "scene/ds_correction_file.h"
 #include "scene/yarn_preset.h"
 
 namespace ft {
@@ -93,21 +94,6 @@ class DsCorrectionScene {
   std::unique_ptr<Impl> impl_;
 };
 
-// The baked textures (common/ds_correction.h) and what the bake measured.
-struct DsCorrectionTextures {
-  DsCorrectionLayout layout{};
-  std::vector<glm::vec4> xiM, xiN, psiM, psiN;  // rgb per texel, w = 0
-  std::vector<float> coverage;                   // per (u, v) texel: fraction of its samples that hit a fiber
-  // Per direction d (a · N_φ + b), over the covered texels: the image's ξ
-  // (Σ L_* / Σ Ψ̄ ḡ: how far plain dual scattering under- or overestimates
-  // the yarn's radiance), and the relative L1 error against L_* of the prediction
-  // without correction (Ψ̄ ḡ) and with the factored correction read back
-  // through ftXiLookup at the texel centres (the runtime's ξ_M ξ_N Ψ_M Ψ_N ḡ).
-  std::vector<double> meanXi, errorUncorrected, errorCorrected;
-  // |Σ runtime − Σ L_*| / Σ L_* over the covered texels: the image's total.
-  std::vector<double> totalCorrected;
-};
-
 // Eq. 10 from the directions' sums (shard order d = a · N_φ + b), in double:
 // per texel and channel ℓ(a, b) = log X(a, b), X_M(a) = exp(mean_b ℓ),
 // X_N(b) = exp(mean_a ℓ − mean_ab ℓ). A texel no sample hit gets ξ = Ψ = 1
@@ -132,11 +118,5 @@ std::vector<double> factorWeightedRankOne(std::span<const double> target, std::s
 
 glm::vec3 evaluateDsCorrectionCpu(const DsCorrectionTextures& t, glm::vec2 uv, glm::vec2 thetaPhi);
 
-// The bake's file: one JSON line (format, layout, settings, the per-direction
-// figures), then the five arrays as little-endian float32 (xiM, xiN, psiM,
-// psiN as rgba, coverage). Reading checks sizes and finiteness and throws
-// InputError naming the file and the field.
-void writeDsCorrection(const std::filesystem::path& path, const DsCorrectionTextures& t, const std::string& settingsJson);
-DsCorrectionTextures readDsCorrection(const std::filesystem::path& path);
 
 }  // namespace ft

@@ -6,6 +6,7 @@
 #include "reference/ambient_occlusion.h"
 #include "reference/bcsdf_tables.h"
 #include "reference/core_texture.h"
+#include "reference/dual_scattering.h"
 #include "reference/self_shadow.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
@@ -49,6 +50,10 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: the shadow map needs the yarn preset");
     frameShadowMap(in, makeYarnDensity(*request.fittedPreset), request.appearance);
   }
+  // Dual scattering (001 §4.1, §4.3): the CPU's own table (double quadrature),
+  // the ξ textures of the bake file scaled to the model, or identity.
+  frameDsCorrection(in, request.fittedPreset, request.appearance);
+  if ((in.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u) in.dsTable = bakeDualScatteringCpu(request.params.fabric).rows;
   checkShadingInputs(in);
   return in;
 }

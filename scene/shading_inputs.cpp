@@ -3,9 +3,13 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
+#include "scene/ds_correction_file.h"
 #include "scene/input_error.h"
+#include "scene/lighting.h"
+#include "scene/yarn_preset.h"
 
 namespace ft {
 
@@ -42,6 +46,66 @@ void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const A
   in.density = density;  // the tube radius is its reach W (notes §0.3, A5)
   in.shadowMapSize = o.shadowMapSize;
   in.params.flags.w |= FT_APPEARANCE_SHADOW_MAP;
+}
+
+// Below this coverage a texel of a ξ bake is not applied (frameDsCorrection).
+constexpr float kFrameXiMinCoverage = 0.5f;
+
+void frameDsCorrection(ShadingInputs& in, const YarnPreset* preset, const AppearanceOptions& o) {
+  if (!o.dualScattering && !o.dsCorrectionFile) return;
+  in.params.flags.w |= FT_APPEARANCE_DUAL_SCATTERING;
+  if (!o.dsCorrectionFile) {  // plain dual scattering: ξ = 1, Ψ_G^Fiber = the self-shadow T (or 1)
+    in.dsCorrection.size = glm::uvec4(1u);
+    in.dsCorrection.yarn = glm::vec4(1.0f, 1.0f, 0.0f, 0.0f);
+    in.xiM = in.xiN = in.psiM = in.psiN = {glm::vec4(1.0f, 1.0f, 1.0f, 0.0f)};
+    return;
+  }
+  const std::string file = o.dsCorrectionFile->string();
+  DsCorrectionTextures t;
+  try {
+    t = readDsCorrection(*o.dsCorrectionFile);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("--ds-correction: {}", e.what()));
+  }
+  if (!preset) throw std::invalid_argument("frameDsCorrection: the ξ bake needs the frame's yarn preset");
+  // A bake for another yarn or fabric is refused: ξ is a ratio of the path
+  // tracer's radiance over dual scattering's for that yarn's fibers and that
+  // BCSDF, and its u axis is that preset's ply period.
+  if (!t.yarn.empty() && t.yarn != preset->name)
+    throw InputError(fmt::format("--ds-correction: {} was baked for yarn preset '{}', the frame's is '{}'", file,
+                                 t.yarn, preset->name));
+  if (!t.fabric.empty()) {
+    Lighting l;
+    l.fabric = t.fabric;
+    const FabricParams baked = makeShadingParams(l).fabric;  // InputError for an unknown fabric
+    if (std::memcmp(&baked, &in.params.fabric, sizeof(FabricParams)) != 0)
+      throw InputError(fmt::format("--ds-correction: {} was baked for fabric '{}', which is not the frame's fabric",
+                                   file, t.fabric));
+  }
+  if (!(t.layout.yarn.x > 0.0f) || !(t.layout.yarn.y > 0.0f))
+    throw InputError(fmt::format("--ds-correction: {}: period {} and half-width {} must be positive", file,
+                                 t.layout.yarn.x, t.layout.yarn.y));
+  // The bake is at the preset's own scale; the frame's preset is fitted to the
+  // model (scene/yarn_radius.h): P and W scale with it.
+  const float scale = ftFaultFrameDsUnscaled ? 1.0f : float(preset->yarnAlpha) / t.layout.yarn.x;
+  // Rim texels that under half of their camera samples hit are taken as
+  // uncovered (ξ = Ψ = 1, as the bake leaves texels no sample hits): their
+  // rank-1 fits rest on a few samples and ran to factors of 1e7–1e12 in the
+  // CI-size bake, which the trilinear lookup then mixes into covered pixels.
+  const size_t texels = size_t(t.layout.size.x) * t.layout.size.y;
+  for (size_t k = 0; k < texels && k < t.coverage.size(); ++k) {
+    if (t.coverage[k] >= kFrameXiMinCoverage) continue;
+    for (uint32_t a = 0; a < t.layout.size.z; ++a) t.xiM[a * texels + k] = t.psiM[a * texels + k] = glm::vec4(1, 1, 1, 0);
+    for (uint32_t b = 0; b < t.layout.size.w; ++b) t.xiN[b * texels + k] = t.psiN[b * texels + k] = glm::vec4(1, 1, 1, 0);
+  }
+  in.dsCorrection = t.layout;
+  in.dsCorrection.yarn.x *= scale;
+  in.dsCorrection.yarn.y *= scale;
+  in.xiM = std::move(t.xiM);
+  in.xiN = std::move(t.xiN);
+  in.psiM = std::move(t.psiM);
+  in.psiN = std::move(t.psiN);
+  in.params.flags.w |= FT_APPEARANCE_DS_CORRECTION;
 }
 
 void checkShadingInputs(const ShadingInputs& inputs) {
@@ -102,6 +166,31 @@ void checkShadingInputs(const ShadingInputs& inputs) {
     const float w = inputs.density.supportRadius;
     if (!std::isfinite(w) || w <= 0.0f || !std::isfinite(inputs.density.plyRadius))
       throw std::invalid_argument(fmt::format("shading inputs: shadow-map tube radius W = {}", w));
+  }
+  // Dual scattering (001 §4.1, §4.3): the table and the ξ textures.
+  if ((inputs.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u) {
+    if (inputs.dsTable.size() != size_t(FT_DS_ROWS) * FT_DS_TABLE_SIZE)
+      throw std::invalid_argument(fmt::format("shading inputs: DS table has {} rows, expected {}", inputs.dsTable.size(),
+                                              FT_DS_ROWS * FT_DS_TABLE_SIZE));
+    const auto finite = [](const std::vector<glm::vec4>& v, const char* name) {
+      for (size_t k = 0; k < v.size(); ++k)
+        if (!std::isfinite(v[k].x) || !std::isfinite(v[k].y) || !std::isfinite(v[k].z))
+          throw std::invalid_argument(fmt::format("shading inputs: {} value {} is not finite", name, k));
+    };
+    finite(inputs.dsTable, "DS table");
+    const DsCorrectionLayout& l = inputs.dsCorrection;
+    const size_t uv = size_t(l.size.x) * l.size.y;
+    if (uv == 0 || l.size.z == 0 || l.size.w == 0 || inputs.xiM.size() != uv * l.size.z ||
+        inputs.psiM.size() != uv * l.size.z || inputs.xiN.size() != uv * l.size.w || inputs.psiN.size() != uv * l.size.w)
+      throw std::invalid_argument(fmt::format("shading inputs: ξ textures have {} / {} / {} / {} texels, layout {}×{}×({}, {})",
+                                              inputs.xiM.size(), inputs.xiN.size(), inputs.psiM.size(),
+                                              inputs.psiN.size(), l.size.x, l.size.y, l.size.z, l.size.w));
+    if (!(std::isfinite(l.yarn.x) && l.yarn.x > 0.0f && std::isfinite(l.yarn.y) && l.yarn.y > 0.0f))
+      throw std::invalid_argument(fmt::format("shading inputs: ξ period {} / half-width {}", l.yarn.x, l.yarn.y));
+    finite(inputs.xiM, "ξ_M");
+    finite(inputs.xiN, "ξ_N");
+    finite(inputs.psiM, "Ψ_M");
+    finite(inputs.psiN, "Ψ_N");
   }
 }
 

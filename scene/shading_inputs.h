@@ -7,12 +7,16 @@
 // "shading inputs" slots of common/constants.h); every caller — render,
 // trace, the harness, the benches — goes through those.
 #pragma once
+#include <filesystem>
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/ambient_occlusion.h"
 #include "common/core_texture.h"
+#include "common/ds_correction.h"
+#include "common/dual_scattering.h"
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
@@ -48,6 +52,13 @@ struct AppearanceOptions {
   // per frame by FiberRenderer; N × N texels per light.
   bool shadowMap = true;
   uint32_t shadowMapSize = FT_SHADOW_MAP_DEFAULT_SIZE;
+  // 001 §4.1 eq. 8 / §4.3 eq. 11: dual scattering (Zinke et al. 2008) per
+  // light, off by default (every picture without it stays bit-identical);
+  // with a ξ bake (`fibertwin bake ds-correction --out FILE`) its ξ_M ξ_N and
+  // Ψ_G^Fiber = Ψ_M Ψ_N, the latter in place of the self-shadow T. A file
+  // implies dualScattering (render --ds-correction FILE). docs/shaded-frame.md.
+  bool dualScattering = false;
+  std::optional<std::filesystem::path> dsCorrectionFile;
 
   static AppearanceOptions none() {
     AppearanceOptions o;
@@ -89,6 +100,16 @@ struct ShadingInputs {
   // frame with tubes of radius density.supportRadius (W); on when the bit
   // FT_APPEARANCE_SHADOW_MAP of params.flags.w is set.
   uint32_t shadowMapSize = 0;
+  // ---- dual scattering (001 §4.1, §4.3; FT_APPEARANCE_DUAL_SCATTERING) ----
+  // The DS table of the frame's fabric (FT_DS_ROWS vec4 per texel,
+  // FT_DS_TABLE_SIZE texels, texel-major; each side's own bake), and the ξ
+  // textures of 001 eq. 11 with their layout scaled to the model (P and W
+  // times the fit's scale). Without a file (FT_APPEARANCE_DS_CORRECTION
+  // clear): 1 × 1 × 1 × 1 textures of ones, so the shader has one path.
+  // Empty when dual scattering is off.
+  std::vector<glm::vec4> dsTable;
+  DsCorrectionLayout dsCorrection{};
+  std::vector<glm::vec4> xiM, xiN, psiM, psiN;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -116,6 +137,14 @@ CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& request, const 
 // Sets the shadow-map members of `in` for `options` (size in [16, 8192],
 // InputError naming --shadow-map-size otherwise): one line in each bake.
 void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const AppearanceOptions& options);
+
+// Sets the ξ members of `in` and the DS bits of in.params.flags.w for
+// options.dualScattering (the caller bakes in.dsTable): the file of
+// options.dsCorrectionFile read (InputError naming --ds-correction and the
+// file: unreadable, or baked for another yarn preset or fabric than
+// `preset` / params.fabric: refused), its layout scaled to the model (P' =
+// preset.yarnAlpha, W' = W P'/P), or identity textures without a file.
+void frameDsCorrection(ShadingInputs& in, const struct YarnPreset* preset, const AppearanceOptions& options);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

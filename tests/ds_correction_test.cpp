@@ -13,6 +13,10 @@
 
 #include "reference/ds_correction.h"
 #include "scene/input_error.h"
+#include "scene/lighting.h"
+#include "scene/shading_inputs.h"
+#include "scene/yarn_preset.h"
+#include "scene/yarn_radius.h"
 
 namespace ft {
 namespace {
@@ -136,4 +140,59 @@ TEST(DsCorrection, SettingsOutOfRangeAreRefused) {
 }
 
 }  // namespace
+// The frame's reading of a bake (scene/shading_inputs.h frameDsCorrection):
+// P and W scaled to the fitted preset, rim texels under half coverage not
+// applied, a bake for another yarn or fabric refused, identity without a file.
+TEST(DsCorrection, FrameInputs) {
+  const YarnPreset own = findYarnPreset("cotton1");
+  const YarnPreset fitted = scaleYarnPreset(own, 3.0);
+  Lighting l;
+  l.fabric = "cotton";
+  ShadingInputs in;
+  in.params = makeShadingParams(l);
+  AppearanceOptions o = AppearanceOptions::none();
+  o.dualScattering = true;
+  frameDsCorrection(in, &fitted, o);
+  EXPECT_EQ(in.params.flags.w, FT_APPEARANCE_DUAL_SCATTERING);
+  ASSERT_EQ(in.xiM.size(), 1u);
+  EXPECT_EQ(in.psiN[0], glm::vec4(1, 1, 1, 0));
+
+  DsCorrectionTextures t;
+  t.layout.size = glm::uvec4(2, 1, 1, 1);
+  t.layout.yarn = glm::vec4(float(own.yarnAlpha), 0.25f, 0.0f, 0.0f);
+  t.xiM = {glm::vec4(2, 2, 2, 0), glm::vec4(5, 5, 5, 0)};
+  t.xiN = t.psiM = t.psiN = {glm::vec4(1, 1, 1, 0), glm::vec4(7, 7, 7, 0)};
+  t.coverage = {1.0f, 0.2f};  // texel 1 is a rim texel
+  const std::filesystem::path p = std::filesystem::temp_directory_path() / "ft_ds_correction_frame_test.bin";
+  writeDsCorrection(p, t, R"({"yarn": "cotton1", "fabric": "cotton"})");
+  o.dsCorrectionFile = p;
+  ShadingInputs a;
+  a.params = in.params;
+  frameDsCorrection(a, &fitted, o);
+  EXPECT_EQ(a.params.flags.w, FT_APPEARANCE_DUAL_SCATTERING | FT_APPEARANCE_DS_CORRECTION);
+  EXPECT_NEAR(a.dsCorrection.yarn.x, 3.0 * own.yarnAlpha, 1e-5 * own.yarnAlpha);
+  EXPECT_NEAR(a.dsCorrection.yarn.y, 0.75f, 1e-6f);
+  EXPECT_EQ(a.xiM[0], glm::vec4(2, 2, 2, 0));
+  EXPECT_EQ(a.xiM[1], glm::vec4(1, 1, 1, 0));
+  EXPECT_EQ(a.psiN[1], glm::vec4(1, 1, 1, 0));
+  // Another yarn or another fabric: refused, naming the option and the file.
+  const YarnPreset other = findYarnPreset("rayon2");
+  ShadingInputs b;
+  b.params = in.params;
+  try {
+    frameDsCorrection(b, &other, o);
+    FAIL() << "a bake for another yarn was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--ds-correction"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(p.string()), std::string::npos) << e.what();
+  }
+  Lighting silk;
+  silk.fabric = "silk";
+  b.params = makeShadingParams(silk);
+  EXPECT_THROW(frameDsCorrection(b, &fitted, o), InputError);
+  o.dsCorrectionFile = std::filesystem::path("/nonexistent/xi.bin");
+  EXPECT_THROW(frameDsCorrection(b, &fitted, o), InputError);
+  std::filesystem::remove(p);
+}
+
 }  // namespace ft

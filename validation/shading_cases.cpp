@@ -15,7 +15,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include "image/flip.h"
 #include "image/image_io.h"
@@ -23,6 +25,7 @@
 #include "gpu/fiber_renderer.h"
 #include "gpu/shading_inputs_gpu.h"
 #include "reference/fiber_reference.h"
+#include "reference/ds_correction.h"
 #include "reference/fiber_trace.h"
 #include "reference/shading_inputs.h"
 #include "scene/fabric.h"
@@ -498,6 +501,57 @@ std::vector<Approximation> aoFidelityRows() {
   return {{"none", AppearanceOptions::none()}, {"ao-fit", fit}, {"ao-texture", texture}};
 }
 
+// ---- Dual scattering (001 §4.1, §4.3) in the fidelity table ----
+// Dual scattering approximates the light scattered between fibers, so its
+// rows ("front-ms", "back-ms") are judged against the path-traced all-fiber
+// reference (multiple scattering, depth 16, the GPU's 4 sample positions),
+// with the rows without it beside them. The ξ row reads a CI-size ξ bake of
+// the preset and fabric (the xi/bake settings: N_v = 8, 4 × 4 directions,
+// 16 spp, 3 periods; ~3 s), written to a temporary file as `render
+// --ds-correction` reads one. Informational: docs/shaded-frame.md.
+constexpr int kDsFidelityDepth = 16;
+bool multipleScatteringLight(const std::string& light) {
+  return light.size() > 3 && light.compare(light.size() - 3, 3, "-ms") == 0;
+}
+std::filesystem::path fidelityXiFile(ValidationContext& ctx, const YarnPreset& preset, const std::string& fabric) {
+  return ctx.cached(CacheKey<std::filesystem::path>{"shading/fidelity-xi/" + preset.name + "/" + fabric}, [&] {
+    DsCorrectionSettings st;
+    st.yarn = preset.name;
+    st.presetOverrides = ctx.options().presetOverrides;
+    st.fabric = fabric;
+    st.height = 8;
+    st.thetaSamples = 4;
+    st.phiSamples = 4;
+    st.pixelsPerTexel = 2;
+    st.samplesPerPixel = 16;
+    st.periods = 3;
+    const DsCorrectionScene scene(st);
+    std::vector<DsDirectionSums> sums;
+    for (int d = 0; d < scene.directionCount(); ++d) sums.push_back(scene.trace(d));
+    const DsCorrectionTextures t = factorDsCorrection(scene.layout(), sums, 16.0 * 2 * 2);
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / fmt::format("fibertwin-ds-fidelity-{}", ::getpid());
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path file = dir / (preset.name + "-" + fabric + ".bin");
+    writeDsCorrection(file, t, fmt::format(R"({{"yarn": "{}", "fabric": "{}"}})", preset.name, fabric));
+    return file;
+  });
+}
+std::vector<Approximation> dsFidelityRows() {
+  AppearanceOptions selfShadow = AppearanceOptions::none();
+  selfShadow.selfShadow = true;
+  AppearanceOptions ds = AppearanceOptions::none();
+  ds.dualScattering = true;
+  AppearanceOptions dsShadow = selfShadow;
+  dsShadow.dualScattering = true;
+  AppearanceOptions xi = ds;  // the file is set per case (fidelityXiFile)
+  xi.dsCorrectionFile = std::filesystem::path("(ci bake)");
+  return {{"none", AppearanceOptions::none()},
+          {"self-shadow", selfShadow},
+          {"dual-scattering", ds},
+          {"dual-scattering+self-shadow", dsShadow},
+          {"dual-scattering+xi", xi}};
+}
+
 CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const std::string& light,
                        const Approximation& row, const std::string& name) {
   CaseResult r;
@@ -506,7 +560,9 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   r.path = "compute";
   GroundTruthInputs& in = groundTruthInputs(ctx);
   const bool ambientOnly = light.rfind("ambient", 0) == 0;  // the AO rows (above)
-  Lighting lighting = caseLighting(fabric, lightDirection(ambientOnly ? "front" : light, in.camera));
+  const bool multiple = multipleScatteringLight(light);  // the dual-scattering rows (above)
+  const std::string baseLight = multiple ? light.substr(0, light.size() - 3) : light;
+  Lighting lighting = caseLighting(fabric, lightDirection(ambientOnly ? "front" : baseLight, in.camera));
   if (ambientOnly) {
     lighting.lights.clear();
     lighting.ambient = glm::vec3(kAoFidelityAmbient);
@@ -520,7 +576,9 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   gpu.setParams(in.setup->params, in.view);
   gpu.setSegmentList({});
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
-  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, &fitted.fit.preset, row.options, &in.setup->params, &in.setup->table}));
+  AppearanceOptions options = row.options;
+  if (options.dsCorrectionFile) options.dsCorrectionFile = fidelityXiFile(ctx, preset, fabric);
+  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, &fitted.fit.preset, options, &in.setup->params, &in.setup->table}));
   const ImageRgbaF img = renderer.render(gpu, FiberPath::Compute, kWidth, kHeight);
   r.gpuMilliseconds = msSince(t0);
   const auto t1 = Clock::now();
@@ -534,6 +592,10 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
         if (ambientOnly) {  // the environment occluded by the fibers: path traced
           o.multipleScattering = true;
           o.maxDepth = aoFidelityDepth(light);
+        }
+        if (multiple) {  // light scattered between fibers: path traced
+          o.multipleScattering = true;
+          o.maxDepth = kDsFidelityDepth;
         }
         return traceFibers(scene, in.camera, s,
                            bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable, o);
@@ -791,6 +853,11 @@ void addShadingCases(ValidationContext&, std::vector<ValidationCase>& out) {
   }
   for (const char* light : {"front", "back"})
     for (const Approximation& row : fidelityRows()) {
+      const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
+      out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
+    }
+  for (const char* light : {"front-ms", "back-ms"})
+    for (const Approximation& row : dsFidelityRows()) {
       const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
       out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
     }

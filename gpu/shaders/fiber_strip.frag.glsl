@@ -20,6 +20,8 @@
 #include "common/ambient_occlusion.h"
 #include "common/constants.h"
 #include "common/core_texture.h"
+#include "common/ds_correction.h"
+#include "common/dual_scattering.h"
 #include "common/fiber_geometry.h"
 #include "common/fiber_shading.h"
 #include "common/occlusion_cull.h"
@@ -46,6 +48,15 @@ layout(std430, binding = FT_SSBO_AO_TEXTURE) readonly buffer AoTexture { float a
 // Yarn shadow map (000 §4.1 last paragraph): FiberRenderer::drawShadowMap.
 layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMap; };
 layout(std430, binding = FT_SSBO_SHADOW_MAP) readonly buffer ShadowMapTexels { float shadowMapTexels[]; };
+// Dual scattering (001 §4.1 eq. 8, §4.3 eq. 11): the DS table of the fabric,
+// the ξ layout (scaled to the model) and the four ξ textures; identity
+// textures without a ξ bake (scene/shading_inputs.h).
+layout(std430, binding = FT_SSBO_FRAME_DS_TABLE) readonly buffer FrameDsTable { vec4 dsTable[]; };
+layout(std140, binding = FT_UBO_XI) uniform FrameXiBlock { DsCorrectionLayout xiLayout; };
+layout(std430, binding = FT_SSBO_FRAME_XI_M) readonly buffer FrameXiM { vec4 xiM[]; };
+layout(std430, binding = FT_SSBO_FRAME_XI_N) readonly buffer FrameXiN { vec4 xiN[]; };
+layout(std430, binding = FT_SSBO_FRAME_PSI_M) readonly buffer FramePsiM { vec4 psiM[]; };
+layout(std430, binding = FT_SSBO_FRAME_PSI_N) readonly buffer FramePsiN { vec4 psiN[]; };
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -301,10 +312,9 @@ float shadowMapVisibility(int i, vec3 p) {
   return ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, t.x, t.y)]);
 }
 
-// Light i's direct term (common/fiber_shading.h) with the lobes' Z from the
-// table (common/bcsdf.h), not the quadrature the ground truth runs.
-vec3 directLight(int i, FiberHit h, vec3 v) {
-  FiberAngles a = ftFiberAngles(h.tangent, vec3(shading.lightDirection[i]), v);
+// The lobes' (Z_R, Z_TT) at angles a from the table (common/bcsdf.h), not
+// the quadrature the ground truth runs.
+vec2 lobeNormsAt(FiberAngles a) {
   float theta = ftLobeNormAngle(a), betaR = shading.fabric.colorR.w, betaTT = shading.fabric.colorTT.w;
   vec4 r = ftLobeNormLookup(theta, betaR, FT_LOBE_NORM_TABLE_SIZE);
   vec4 t = ftLobeNormLookup(theta, betaTT, FT_LOBE_NORM_TABLE_SIZE);
@@ -313,7 +323,79 @@ vec3 directLight(int i, FiberHit h, vec3 v) {
 #ifdef FT_FAULT_FRAME_LOBE_NORM_SWAPPED
   z = z.yx;  // each lobe normalised by the other's Z
 #endif
-  return ftFiberDirectNormed(shading, i, a, h.normal, z);
+  return z;
+}
+
+// Light i's direct term (common/fiber_shading.h) with the lobes' Z from the table.
+vec3 directLight(int i, FiberHit h, vec3 v) {
+  FiberAngles a = ftFiberAngles(h.tangent, vec3(shading.lightDirection[i]), v);
+  return ftFiberDirectNormed(shading, i, a, h.normal, lobeNormsAt(a));
+}
+
+// ---- Dual scattering (001 §4.1 eq. 8, §4.3 eq. 11, notes A7 "Runtime") ----
+DsTexel dsTexel(int k) {
+  int o = k * FT_DS_ROWS;
+  DsTexel t;
+  t.aF = dsTable[o + FT_DS_ROW_A_F].xyz;
+  t.aB = dsTable[o + FT_DS_ROW_A_B].xyz;
+  t.alphaF = dsTable[o + FT_DS_ROW_ALPHA_F].xyz;
+  t.alphaB = dsTable[o + FT_DS_ROW_ALPHA_B].xyz;
+  t.betaF2 = dsTable[o + FT_DS_ROW_BETA_F2].xyz;
+  t.betaB2 = dsTable[o + FT_DS_ROW_BETA_B2].xyz;
+  t.ab = dsTable[o + FT_DS_ROW_AB].xyz;
+  t.deltaB = dsTable[o + FT_DS_ROW_DELTA_B].xyz;
+  t.sigmaB2 = dsTable[o + FT_DS_ROW_SIGMA_B2].xyz;
+  return t;
+}
+
+// Light i's direct term with dual scattering, without the shadow map (the
+// caller's Ψ_G^Yarn) and the self-shadow T (the caller's when no ξ bake is bound):
+//   E_i [(1 − k_d) ξ_M ξ_N Ψ_M Ψ_N (f + d_b f_back^dir) cos θ_i + Ψ_M Ψ_N (k_d/π) max(0, n·ω_i)]
+// f and f_back^dir at the fiber's angles (f_back from the DS table at θ_d);
+// ξ and Ψ_G^Fiber at x = (u, v): u = the yarn's length coordinate s over P,
+// v = the offset from the yarn centre along T × ω_o⊥ over W, and the angles
+// of light and view about the *yarn* tangent T (common/ds_correction.h).
+vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
+  vec3 wi = vec3(shading.lightDirection[i]);
+  FiberAngles a = ftFiberAngles(h.tangent, wi, v);
+  vec3 f = shading.flags.y == FT_SHADING_SIMPLE ? vec3(ftSimpleSpecular(shading.simple.x, shading.simple.y, a))
+                                                : ftBcsdfNormed(shading.fabric, a, lobeNormsAt(a));
+  vec3 k = ftDsLookup(ftDsThetaD(a), FT_DS_TABLE_SIZE);
+  DsTexel t = ftDsMix(dsTexel(int(k.x)), dsTexel(int(k.y)), k.z);
+  vec3 local = ftDsRuntime(f, ftDsBackscatter(t, a, vec3(0.0)), 1.0);  // k_fly = 1: no flyaway scaling (A8)
+  // The yarn's frame at the hit.
+  vec3 T = normalize(cross(c.N, c.B));
+  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
+  vec3 vp = v - dot(v, T) * T;
+  vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;  // seen end-on: any side
+  // cs is the yarn at the hit's place along the fiber's line (its axis); on a
+  // thick core tube the hit lies off that place along T by up to its radius
+  // times the ply's tilt: the hit's own length coordinate adds that offset.
+  vec3 q = h.position - cs.xyz;
+  vec2 uv = ftXiTexCoord(xiLayout, cs.w + dot(q, T), dot(q, side));
+#ifdef FT_FAULT_FRAME_DS_FIBER_TANGENT
+  vec2 angles = ftXiRelativeAngles(h.tangent, wi, v);  // about the fiber's tangent, not the yarn's
+#else
+  vec2 angles = ftXiRelativeAngles(T, wi, v);
+#endif
+#ifdef FT_FAULT_FRAME_DS_PHI_MIRRORED
+  angles.y = angles.y > 0.0 ? FT_TWO_PI - angles.y : 0.0;  // φ measured the other way round
+#endif
+  XiLookup l = ftXiLookup(xiLayout, uv, angles);
+  vec3 xm = vec3(0.0), xn = vec3(0.0), pm = vec3(0.0), pn = vec3(0.0);
+  for (int q = 0; q < 8; ++q) {
+    float wm = ftXiCornerWeight(l, l.theta, q), wn = ftXiCornerWeight(l, l.phi, q);
+    uint im = ftXiCorner(xiLayout, l, l.theta, q), iN = ftXiCorner(xiLayout, l, l.phi, q);
+    xm += wm * xiM[im].rgb;
+    xn += wn * xiN[iN].rgb;
+    pm += wm * psiM[im].rgb;
+    pn += wn * psiN[iN].rgb;
+  }
+  vec3 psi = pm * pn;  // Ψ_G^Fiber
+  float cosThetaI = FT_FAULT_SHADING_COS_DROPPED_ON ? 1.0 : cos(a.thetaI);
+  vec3 diffuse = vec3(shading.diffuse) * (max(dot(h.normal, wi), 0.0) / FT_PI);
+  return vec3(shading.lightIrradiance[i]) *
+         ((vec3(1.0) - vec3(shading.diffuse)) * xm * xn * psi * local * cosThetaI + psi * diffuse);
 }
 
 vec3 shadeFiber(FiberHit h) {
@@ -322,15 +404,31 @@ vec3 shadeFiber(FiberHit h) {
   bool selfShadowed = (shading.flags.w & FT_APPEARANCE_SELF_SHADOW) != 0u;
   bool occluded = (shading.flags.w & (FT_APPEARANCE_AO_FIT | FT_APPEARANCE_AO_TEXTURE)) != 0u;
   CrossSection c;
+#ifdef FT_FRAME_DUAL_SCATTERING
+  c = crossSection(h);  // the ξ lookup's yarn frame
+  // A ξ bake's Ψ_G^Fiber replaces the self-shadow T: both are the shadowing
+  // by the yarn's own fibers, never both. Without one T stays (plain DS).
+#ifdef FT_FAULT_FRAME_DS_DOUBLE_SHADOW
+  bool selfShadowT = selfShadowed;  // T on top of Ψ_G^Fiber
+#else
+  bool selfShadowT = selfShadowed && (shading.flags.w & FT_APPEARANCE_DS_CORRECTION) == 0u;
+#endif
+#else
   if (selfShadowed || occluded) c = crossSection(h);
+  bool selfShadowT = selfShadowed;
+#endif
   float ambientVisibility = occluded ? ambientOcclusion(c) : 1.0;
   for (int i = 0; i < int(shading.flags.x) && i < FT_MAX_LIGHTS; ++i) {
-    float visibility = selfShadowed ? selfShadowTransmittance(c, shading.lightDirection[i].xyz) : 1.0;
+    float visibility = selfShadowT ? selfShadowTransmittance(c, shading.lightDirection[i].xyz) : 1.0;
 #ifdef FT_FAULT_FRAME_AO_DIRECT
     visibility *= ambientVisibility;  // AO on the direct term too (000 Fig. 12d: it scales the ambient only)
 #endif
     if ((shading.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) visibility *= shadowMapVisibility(i, h.position);
+#ifdef FT_FRAME_DUAL_SCATTERING
+    radiance += dualScatteringLight(i, h, c, v) * visibility;
+#else
     radiance += directLight(i, h, v) * visibility;
+#endif
   }
   FiberAngles o = ftFiberAngles(h.tangent, v, v);
   vec3 k = ftAmbientLookup(o.thetaO, FT_AMBIENT_TABLE_SIZE);
