@@ -114,6 +114,18 @@ FT_FUNC XiLookup ftXiLookup(DsCorrectionLayout l, vec2 uv, vec2 thetaPhi) {
   return r;
 }
 
+// The factors are multiplicative and span decades between neighbouring
+// texels (ξ ≈ 1e4 where Ψ ≈ 1e-4 and their product is ~1), so the lookup
+// interpolates their logarithms: the buffers a lookup reads hold
+// ftXiEncode(value) (the host encodes at upload, on both sides), the caller
+// sums weight × encoded corner, and ftXiDecode of the sum of the four
+// textures' sums is the product ξ_M ξ_N Ψ_M Ψ_N — the geometric
+// interpolation of the product, which linear interpolation of each factor
+// is not (it turned a product of ~1 into 1e4 between two such texels).
+const float kFtXiMinValue = 1e-30f;
+FT_FUNC vec3 ftXiEncode(vec3 value) { return log(max(value, vec3(kFtXiMinValue))); }
+FT_FUNC vec3 ftXiDecode(vec3 sum) { return exp(sum); }
+
 // Element index of texel (i, j, k) and the weight of corner c (bit 0: u,
 // bit 1: v, bit 2: the angle axis) of a lookup along `angle`.
 FT_FUNC uint ftXiTexel(DsCorrectionLayout l, float i, float j, float k) {

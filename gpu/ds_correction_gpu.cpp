@@ -28,8 +28,14 @@ std::vector<glm::vec3> DsCorrectionGpu::evaluate(const DsCorrectionLayout& l, st
                                             l.size.z, l.size.w));
   const Buffer block = Buffer::create(sizeof(l), &l);
   block.bindBase(GL_UNIFORM_BUFFER, FT_UBO_XI);
-  const Buffer bxm = Buffer::create(nm * sizeof(glm::vec4), xiM.data()), bxn = Buffer::create(nn * sizeof(glm::vec4), xiN.data());
-  const Buffer bpm = Buffer::create(nm * sizeof(glm::vec4), psiM.data()), bpn = Buffer::create(nn * sizeof(glm::vec4), psiN.data());
+  // The lookup reads logarithms (ftXiEncode, common/ds_correction.h).
+  const auto encoded = [](std::span<const glm::vec4> t) {
+    std::vector<glm::vec4> e(t.size());
+    for (size_t k = 0; k < t.size(); ++k) e[k] = glm::vec4(ftXiEncode(glm::vec3(t[k])), 0.0f);
+    return e;
+  };
+  const Buffer bxm = Buffer::fromVector(encoded(xiM)), bxn = Buffer::fromVector(encoded(xiN));
+  const Buffer bpm = Buffer::fromVector(encoded(psiM)), bpn = Buffer::fromVector(encoded(psiN));
   bxm.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_XI_M);
   bxn.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_XI_N);
   bpm.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_XI_PSI_M);

@@ -23,7 +23,8 @@ class DsCorrectionGpu {
   // defines: extra preprocessor symbols (fault injection, see validation/faults.h).
   explicit DsCorrectionGpu(const GlInfo& gl, const std::vector<std::string>& defines = {});
   // Textures in common/ds_correction.h order (rgba per texel: ξ_M, Ψ_M of
-  // N_u·N_v·N_θ texels, ξ_N, Ψ_N of N_u·N_v·N_φ); queries (u, v, θ, φ).
+  // N_u·N_v·N_θ texels, ξ_N, Ψ_N of N_u·N_v·N_φ), values as baked (they are
+  // uploaded log-encoded, ftXiEncode); queries (u, v, θ, φ).
   std::vector<glm::vec3> evaluate(const DsCorrectionLayout& layout, std::span<const glm::vec4> xiM,
                                   std::span<const glm::vec4> xiN, std::span<const glm::vec4> psiM,
                                   std::span<const glm::vec4> psiN, std::span<const glm::vec4> queries);

@@ -112,10 +112,18 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   // Dual scattering (001 §4.1, §4.3): empty buffers (16 bytes) when off.
   dsTable_ = makeBuffer(inputs.dsTable.size() * sizeof(glm::vec4), inputs.dsTable.data());
   xiUbo_ = makeBuffer(sizeof(DsCorrectionLayout), &inputs.dsCorrection);
-  xiM_ = makeBuffer(inputs.xiM.size() * sizeof(glm::vec4), inputs.xiM.data());
-  xiN_ = makeBuffer(inputs.xiN.size() * sizeof(glm::vec4), inputs.xiN.data());
-  psiM_ = makeBuffer(inputs.psiM.size() * sizeof(glm::vec4), inputs.psiM.data());
-  psiN_ = makeBuffer(inputs.psiN.size() * sizeof(glm::vec4), inputs.psiN.data());
+  // ξ and Ψ log-encoded: the lookup interpolates logarithms (common/ds_correction.h).
+  const auto encoded = [](const std::vector<glm::vec4>& t) {
+    std::vector<glm::vec4> e(t.size());
+    for (size_t k = 0; k < t.size(); ++k) e[k] = glm::vec4(ftXiEncode(glm::vec3(t[k])), 0.0f);
+    return e;
+  };
+  const std::vector<glm::vec4> xiM = encoded(inputs.xiM), xiN = encoded(inputs.xiN), psiM = encoded(inputs.psiM),
+                               psiN = encoded(inputs.psiN);
+  xiM_ = makeBuffer(xiM.size() * sizeof(glm::vec4), xiM.data());
+  xiN_ = makeBuffer(xiN.size() * sizeof(glm::vec4), xiN.data());
+  psiM_ = makeBuffer(psiM.size() * sizeof(glm::vec4), psiM.data());
+  psiN_ = makeBuffer(psiN.size() * sizeof(glm::vec4), psiN.data());
 }
 
 // ---- Yarn shadow map (000 §4.1 last paragraph; common/shadow_map.h) ----

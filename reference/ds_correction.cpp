@@ -243,9 +243,15 @@ namespace {
 constexpr double kDarkEpsilon = 1e-7;
 constexpr int kFitIterations = 64;
 
-glm::vec3 fetch(const std::vector<glm::vec4>& tex, const DsCorrectionLayout& l, const XiLookup& q, glm::vec3 angle) {
+// Σ_c w_c (ftXiEncode(ξ corner c) + ftXiEncode(Ψ corner c)), as the GPU sums
+// its log-encoded buffers: per corner first (the two cancel).
+glm::vec3 fetchLog(const std::vector<glm::vec4>& xi, const std::vector<glm::vec4>& psi, const DsCorrectionLayout& l,
+                   const XiLookup& q, glm::vec3 angle) {
   glm::vec3 sum(0.0f);
-  for (int c = 0; c < 8; ++c) sum += ftXiCornerWeight(q, angle, c) * glm::vec3(tex[ftXiCorner(l, q, angle, c)]);
+  for (int c = 0; c < 8; ++c) {
+    const uint32_t i = ftXiCorner(l, q, angle, c);
+    sum += ftXiCornerWeight(q, angle, c) * (ftXiEncode(glm::vec3(xi[i])) + ftXiEncode(glm::vec3(psi[i])));
+  }
   return sum;
 }
 
@@ -253,8 +259,7 @@ glm::vec3 fetch(const std::vector<glm::vec4>& tex, const DsCorrectionLayout& l, 
 
 glm::vec3 evaluateDsCorrectionCpu(const DsCorrectionTextures& t, glm::vec2 uv, glm::vec2 thetaPhi) {
   const XiLookup q = ftXiLookup(t.layout, uv, thetaPhi);
-  return fetch(t.xiM, t.layout, q, q.theta) * fetch(t.xiN, t.layout, q, q.phi) * fetch(t.psiM, t.layout, q, q.theta) *
-         fetch(t.psiN, t.layout, q, q.phi);
+  return ftXiDecode(fetchLog(t.xiM, t.psiM, t.layout, q, q.theta) + fetchLog(t.xiN, t.psiN, t.layout, q, q.phi));
 }
 
 DsCorrectionTextures factorDsCorrection(const DsCorrectionLayout& l, std::span<const DsDirectionSums> directions,

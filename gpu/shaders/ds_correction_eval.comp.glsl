@@ -1,6 +1,7 @@
 // The DS correction textures looked up per request (DsCorrectionGpu::evaluate),
-// as a fragment would: ftXiLookup, the eight corners of each texture, the
-// product ξ_M ξ_N Ψ_M Ψ_N of 001 eq. 11 (common/ds_correction.h).
+// as a fragment would: ftXiLookup, the eight log-encoded corners of each
+// texture (ftXiEncode, done on the host), ftXiDecode of their weighted sums:
+// the product ξ_M ξ_N Ψ_M Ψ_N of 001 eq. 11 (common/ds_correction.h).
 #include "common/constants.h"
 #include "common/ds_correction.h"
 #include "shaders/flat_dispatch.glsl"
@@ -21,18 +22,19 @@ void main() {
   if (r >= requestCount) return;
   vec4 q = requests[r];
   XiLookup l = ftXiLookup(dsLayout, q.xy, q.zw);
-  vec3 xm = vec3(0.0), xn = vec3(0.0), pm = vec3(0.0), pn = vec3(0.0);
+  // Per corner log ξ + log Ψ first: the two run to ±15 and cancel, and a
+  // float sum of the parts would keep their rounding (common/ds_correction.h).
+  vec3 m = vec3(0.0), n = vec3(0.0);
   for (int c = 0; c < 8; ++c) {
     float wm = ftXiCornerWeight(l, l.theta, c), wn = ftXiCornerWeight(l, l.phi, c);
     uint im = ftXiCorner(dsLayout, l, l.theta, c), iN = ftXiCorner(dsLayout, l, l.phi, c);
 #ifdef FT_FAULT_XI_GPU_PSI_N_FROM_M
-    pn += wn * psiM[iN].rgb;  // Ψ_N read from the Ψ_M texture (GPU only)
+    vec3 psiNCorner = psiM[iN].rgb;  // Ψ_N read from the Ψ_M texture (GPU only)
 #else
-    pn += wn * psiN[iN].rgb;
+    vec3 psiNCorner = psiN[iN].rgb;
 #endif
-    xm += wm * xiM[im].rgb;
-    xn += wn * xiN[iN].rgb;
-    pm += wm * psiM[im].rgb;
+    m += wm * (xiM[im].rgb + psiM[im].rgb);
+    n += wn * (xiN[iN].rgb + psiNCorner);
   }
-  results[r] = vec4(xm * xn * pm * pn, 0.0);
+  results[r] = vec4(ftXiDecode(m + n), 0.0);
 }

@@ -382,20 +382,24 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
   angles.y = angles.y > 0.0 ? FT_TWO_PI - angles.y : 0.0;  // φ measured the other way round
 #endif
   XiLookup l = ftXiLookup(xiLayout, uv, angles);
-  vec3 xm = vec3(0.0), xn = vec3(0.0), pm = vec3(0.0), pn = vec3(0.0);
+  // The buffers hold logarithms (ftXiEncode); per corner log ξ + log Ψ first
+  // (they cancel), Ψ alone for the diffuse term.
+  vec3 m = vec3(0.0), n = vec3(0.0), pm = vec3(0.0), pn = vec3(0.0);
   for (int q = 0; q < 8; ++q) {
     float wm = ftXiCornerWeight(l, l.theta, q), wn = ftXiCornerWeight(l, l.phi, q);
     uint im = ftXiCorner(xiLayout, l, l.theta, q), iN = ftXiCorner(xiLayout, l, l.phi, q);
-    xm += wm * xiM[im].rgb;
-    xn += wn * xiN[iN].rgb;
-    pm += wm * psiM[im].rgb;
-    pn += wn * psiN[iN].rgb;
+    vec3 lpm = psiM[im].rgb, lpn = psiN[iN].rgb;
+    m += wm * (xiM[im].rgb + lpm);
+    n += wn * (xiN[iN].rgb + lpn);
+    pm += wm * lpm;
+    pn += wn * lpn;
   }
-  vec3 psi = pm * pn;  // Ψ_G^Fiber
+  vec3 psi = ftXiDecode(pm + pn);         // Ψ_G^Fiber
+  vec3 correction = ftXiDecode(m + n);    // ξ_M ξ_N Ψ_M Ψ_N
   float cosThetaI = FT_FAULT_SHADING_COS_DROPPED_ON ? 1.0 : cos(a.thetaI);
   vec3 diffuse = vec3(shading.diffuse) * (max(dot(h.normal, wi), 0.0) / FT_PI);
   return vec3(shading.lightIrradiance[i]) *
-         ((vec3(1.0) - vec3(shading.diffuse)) * xm * xn * psi * local * cosThetaI + psi * diffuse);
+         ((vec3(1.0) - vec3(shading.diffuse)) * correction * local * cosThetaI + psi * diffuse);
 }
 
 vec3 shadeFiber(FiberHit h) {
