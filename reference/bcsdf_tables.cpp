@@ -8,6 +8,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include "reference/quadrature.h"
+
 namespace ft {
 
 std::vector<glm::vec3> evaluateBcsdfCpu(const FabricParams& fabric, std::span<const FiberAngles> angles,
@@ -43,18 +45,10 @@ std::vector<glm::dvec3> AmbientTableCpu::total() const {
 
 namespace {
 
-// Gauss–Kronrod 7/15 (QUADPACK qk15): Kronrod nodes on [0, 1] (odd indices
-// and the centre are the Gauss nodes), Kronrod weights, Gauss weights.
-constexpr double kXk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-                           0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-                           0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-                           0.207784955007898467600689403773245, 0.0};
-constexpr double kWk[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-                           0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-                           0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-                           0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-constexpr double kWg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-                           0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+// The Gauss–Kronrod 7/15 rule: reference/quadrature.h.
+constexpr const double* kXk = kGk15Nodes;
+constexpr const double* kWk = kGk15KronrodWeights;
+constexpr const double* kWg = kGk15GaussWeights;
 
 // Requested relative accuracy of each texel's integral.
 constexpr double kRelativeTolerance = 1e-9;
