@@ -206,6 +206,43 @@ void finishViewOptions(ft::ViewOptions& v, const ViewOptionText& text) {
   v.camera = parseCameraText(text.camera);
 }
 
+// 000 §4 / 001 §4's approximations of the shaded frame, as typed: one place
+// for every command that draws it (render, knit), so that a new approximation
+// adds its flags here once.
+struct AppearanceOptionText {
+  std::string ao = "fit", dsCorrection;
+};
+void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOptionText& text) {
+  app->add_flag("!--no-self-shadow", a.selfShadow,
+                "without the self-shadow texture of 000 §4.1 (light through the yarn's own fibers)");
+  app->add_option("--self-shadow-size", a.selfShadowSize,
+                  "self-shadow texels across the yarn (default 128)");
+  app->add_option("--self-shadow-slices", a.selfShadowSlices,
+                  "self-shadow slices over the ply twist (default 16)");
+  app->add_flag("!--no-core-texture", a.coreTexture,
+                "core strips without the core-fiber texture of 000 §3.2 (a smooth tube)");
+  app->add_option("--self-shadow-kappa", a.selfShadowKappa,
+                  "κ of T = exp(-κD) (default 2 r_f, notes §0.3; 0: no self-shadow)");
+  app->add_option("--ao", text.ao,
+                  "ambient occlusion of 000 §4.2: none, fit (the distance-based cubic, default) or texture");
+  app->add_flag("!--no-shadow-map", a.shadowMap,
+                "without the yarn shadow map of 000 §4.1 (yarns shadowing other yarns)");
+  app->add_option("--shadow-map-size", a.shadowMapSize,
+                  "shadow-map texels per side, per light (default 2048)");
+  app->add_flag("--dual-scattering", a.dualScattering,
+                "dual scattering (Zinke 2008, 001 §4.1 eq. 8) per light: f + d_b f_back^dir (docs/shaded-frame.md)");
+  app->add_option("--ds-correction", text.dsCorrection,
+                  "with --dual-scattering (implied): the ξ and Ψ_G^Fiber bake of `fibertwin bake ds-correction` "
+                  "(001 eq. 11), for the frame's yarn preset and fabric; its Ψ_G^Fiber replaces the self-shadow T");
+}
+void finishAppearanceOptions(ft::AppearanceOptions& a, const AppearanceOptionText& text) {
+  a.ao = ft::parseAoMode(text.ao);
+  if (!text.dsCorrection.empty()) {
+    a.dsCorrectionFile = text.dsCorrection;
+    a.dualScattering = true;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -243,29 +280,8 @@ int main(int argc, char** argv) {
                    "shade every fragment: without the occluder pass that skips hidden lines (the frame is the same)");
   render->add_flag("--profile", ro.profile,
                    "time the bakes and each phase of the frame (glFinish after each), cold and then warm (drawn twice)");
-  render->add_flag("!--no-self-shadow", ro.appearance.selfShadow,
-                   "without the self-shadow texture of 000 §4.1 (light through the yarn's own fibers)");
-  render->add_option("--self-shadow-size", ro.appearance.selfShadowSize,
-                     "self-shadow texels across the yarn (default 128)");
-  render->add_option("--self-shadow-slices", ro.appearance.selfShadowSlices,
-                     "self-shadow slices over the ply twist (default 16)");
-  render->add_flag("!--no-core-texture", ro.appearance.coreTexture,
-                   "core strips without the core-fiber texture of 000 §3.2 (a smooth tube)");
-  render->add_option("--self-shadow-kappa", ro.appearance.selfShadowKappa,
-                     "κ of T = exp(-κD) (default 2 r_f, notes §0.3; 0: no self-shadow)");
-  std::string renderAo = "fit";
-  render->add_option("--ao", renderAo,
-                     "ambient occlusion of 000 §4.2: none, fit (the distance-based cubic, default) or texture");
-  render->add_flag("!--no-shadow-map", ro.appearance.shadowMap,
-                   "without the yarn shadow map of 000 §4.1 (yarns shadowing other yarns)");
-  render->add_option("--shadow-map-size", ro.appearance.shadowMapSize,
-                     "shadow-map texels per side, per light (default 2048)");
-  render->add_flag("--dual-scattering", ro.appearance.dualScattering,
-                   "dual scattering (Zinke 2008, 001 §4.1 eq. 8) per light: f + d_b f_back^dir (docs/shaded-frame.md)");
-  std::string renderDsCorrection;
-  render->add_option("--ds-correction", renderDsCorrection,
-                     "with --dual-scattering (implied): the ξ and Ψ_G^Fiber bake of `fibertwin bake ds-correction` "
-                     "(001 eq. 11), for the frame's yarn preset and fabric; its Ψ_G^Fiber replaces the self-shadow T");
+  AppearanceOptionText renderAppearance;
+  addAppearanceOptions(render, ro.appearance, renderAppearance);
   render->add_option("--backend", backend, "GL backend");
   render->add_option("--inject", ro.inject,
                      "draw with a planted fault (`fibertwin faults`): a NaN frame must stop the render");
@@ -393,11 +409,7 @@ int main(int argc, char** argv) {
       finishViewOptions(ro.view, renderText);
       if (ro.preview && ro.view.out.extension() == ".exr") ro.view.out.replace_extension(".png");
       ro.backend = parseBackend(backend);
-      ro.appearance.ao = ft::parseAoMode(renderAo);
-      if (!renderDsCorrection.empty()) {
-        ro.appearance.dsCorrectionFile = renderDsCorrection;
-        ro.appearance.dualScattering = true;
-      }
+      finishAppearanceOptions(ro.appearance, renderAppearance);
       return ft::runRenderCommand(ro, std::cout);
     }
     if (trace->parsed()) {
