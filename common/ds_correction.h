@@ -32,6 +32,7 @@ inline bool ftFaultFrameDsUnscaled = false;
 }
 #define FT_FAULT_XI_AXES_SWAPPED_ON ::ft::ftFaultXiAxesSwapped
 #define FT_FAULT_XI_PHI_CLAMPED_ON ::ft::ftFaultXiPhiClamped
+#define FT_FAULT_FRAME_DS_UNSCALED_ON ::ft::ftFaultFrameDsUnscaled
 #else
 #if defined(FT_FAULT_XI_AXES_SWAPPED)
 #define FT_FAULT_XI_AXES_SWAPPED_ON true

@@ -38,6 +38,7 @@ namespace ft {
 // lights the yarn from the mirror side of the one it files the result under
 // (φ → −φ), as a sign slip in ω_d would.
 inline bool ftFaultXiBakeLightMirrored = false;
+#define FT_FAULT_XI_BAKE_LIGHT_MIRRORED_ON ::ft::ftFaultXiBakeLightMirrored
 
 struct DsCorrectionSettings {
   std::string yarn = "cotton1";   // preset (data/yarn-presets.tsv); its flyaways are left out

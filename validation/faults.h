@@ -30,45 +30,27 @@ struct Fault {
   const char* filter;       // the cases that can see it (regex; "" = all), to keep fault runs short
   const char* model;        // BCC (path from the repository root) the fault shows on; nullptr: built-in scene
   bool shared;              // lives in common/: planted on the CPU side too (at run time), not only the GPU's
+  bool* cpuSwitch;          // shared: the CPU side's run-time switch, <DEFINE>_ON of its header; else nullptr
 };
 
 inline constexpr Fault kFaults[] = {
+// A shared fault's header defines <DEFINE>_ON as its C++ switch variable.
+#define FT_FAULT_CPU_SWITCH_true(define) &(define##_ON)
+#define FT_FAULT_CPU_SWITCH_false(define) nullptr
 #define FT_FAULT(name, define, caughtBy, paths, filter, model, shared, description) \
-  {name, #define, description, caughtBy, paths, filter, (model)[0] ? (model) : nullptr, shared},
+  {name, #define, description, caughtBy, paths, filter, (model)[0] ? (model) : nullptr, shared,       \
+   FT_FAULT_CPU_SWITCH_##shared(define)},
 #include "validation/faults.def"
 #undef FT_FAULT
+#undef FT_FAULT_CPU_SWITCH_true
+#undef FT_FAULT_CPU_SWITCH_false
 };
 
 // Switches a shared fault's CPU side (the GPU side is the define); the
 // harness turns it on for its run and off again when the run ends.
 inline void setSharedFault(std::string_view define, bool on) {
-  if (define == "FT_FAULT_TANGENT_FALLBACK") ftFaultTangentFallback = on;
-  if (define == "FT_FAULT_BCSDF_NORM_THETA_I") ftFaultBcsdfNormThetaI = on;
-  if (define == "FT_FAULT_LOBE_NORM_TEXEL_ANGLE") ftFaultLobeNormTexelAngle = on;
-  if (define == "FT_FAULT_CORE_LINES_ONE") ftFaultCoreLinesOne = on;
-  if (define == "FT_FAULT_SHADING_COS_DROPPED") ftFaultShadingCosDropped = on;
-  if (define == "FT_FAULT_SELF_SHADOW_SLICE_RANGE") ftFaultSelfShadowSliceRange = on;
-  if (define == "FT_FAULT_SELF_SHADOW_PSI_SIGN") ftFaultSelfShadowPsiSign = on;
-  if (define == "FT_FAULT_CORE_TEXTURE_PRESET_S") ftFaultCoreTexturePresetS = on;
-  if (define == "FT_FAULT_CORE_TEXTURE_TANGENT_SIGN") ftFaultCoreTextureTangentSign = on;
-  if (define == "FT_FAULT_CORE_TEXTURE_VIEW_SIGN") ftFaultCoreTextureViewSign = on;
-  if (define == "FT_FAULT_AO_HALF_CIRCLE") ftFaultAoHalfCircle = on;
-  if (define == "FT_FAULT_AO_LINEAR_VISIBILITY") ftFaultAoLinearVisibility = on;
-  if (define == "FT_FAULT_SHADOW_MAP_FRONT_DEPTH") ftFaultShadowMapFrontDepth = on;
-  if (define == "FT_FAULT_SHADOW_MAP_NO_REMAP") ftFaultShadowMapNoRemap = on;
-  if (define == "FT_FAULT_XI_AXES_SWAPPED") ftFaultXiAxesSwapped = on;
-  if (define == "FT_FAULT_XI_PHI_CLAMPED") ftFaultXiPhiClamped = on;
-  if (define == "FT_FAULT_XI_BAKE_LIGHT_MIRRORED") ftFaultXiBakeLightMirrored = on;
-  if (define == "FT_FAULT_DS_AB_DENOMINATOR") ftFaultDsAbDenominator = on;
-  if (define == "FT_FAULT_DS_FORWARD_VARIANCE") ftFaultDsForwardVariance = on;
-  if (define == "FT_FAULT_DS_HEMISPHERES_SWAPPED") ftFaultDsHemispheresSwapped = on;
-  if (define == "FT_FAULT_DS_BETA_THETA_O") ftFaultDsBetaThetaO = on;
-  if (define == "FT_FAULT_SRBF_SOLID_ANGLE_FLAT") ftFaultSrbfSolidAngleFlat = on;
-  if (define == "FT_FAULT_SRBF_PHI_MIRROR") ftFaultSrbfPhiMirror = on;
-  if (define == "FT_FAULT_SRBF_TABLE_NO_COSINE") ftFaultSrbfTableNoCosine = on;
-  if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
-  if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
-  if (define == "FT_FAULT_FRAME_DS_UNSCALED") ftFaultFrameDsUnscaled = on;
+  for (const Fault& f : kFaults)
+    if (f.cpuSwitch && define == f.define) *f.cpuSwitch = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
