@@ -16,6 +16,7 @@
 #include "common/shadow_map.h"
 #include "common/srbf.h"
 #include "common/srbf_bcsdf.h"
+#include "common/srbf_lighting.h"
 #include "common/yarn_frame.h"
 #include "reference/ds_correction.h"
 
@@ -69,6 +70,9 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
   if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
   if (define == "FT_FAULT_FRAME_DS_UNSCALED") ftFaultFrameDsUnscaled = on;
+  if (define == "FT_FAULT_SRBF_FRAME_AXIS_WORLD") ftFaultSrbfFrameAxisWorld = on;
+  if (define == "FT_FAULT_SRBF_FRAME_NO_DC") ftFaultSrbfFrameNoDc = on;
+  if (define == "FT_FAULT_SRBF_FRAME_LAMBDA_NEXT") ftFaultSrbfFrameLambdaNext = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
