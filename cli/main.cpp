@@ -19,6 +19,7 @@
 #include "scene/bcc_reader.h"
 #include "scene/camera.h"
 #include "scene/default_scene.h"
+#include "scene/environment_map.h"
 #include "scene/input_error.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_radius.h"
@@ -211,6 +212,7 @@ void finishViewOptions(ft::ViewOptions& v, const ViewOptionText& text) {
 // adds its flags here once.
 struct AppearanceOptionText {
   std::string ao = "fit", dsCorrection;
+  std::string env, envTable;  // --env FILE, --env-table N_θo,N_θj,N_Δφ,N_λ
 };
 void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOptionText& text) {
   app->add_flag("!--no-self-shadow", a.selfShadow,
@@ -234,12 +236,28 @@ void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOpt
   app->add_option("--ds-correction", text.dsCorrection,
                   "with --dual-scattering (implied): the ξ and Ψ_G^Fiber bake of `fibertwin bake ds-correction` "
                   "(001 eq. 11), for the frame's yarn preset and fabric; its Ψ_G^Fiber replaces the self-shadow T");
+  app->add_option("--env", text.env,
+                  "environment lighting (001 §4.5): an OpenEXR lat-long map (y up, row 0 at the top, φ = atan2(z, x); "
+                  "docs/srbf.md), fitted with 16 SRBFs + a constant; it replaces --ambient, lights still add");
+  app->add_option("--env-table", text.envTable,
+                  "with --env: the I_M table's size N_θo,N_θj,N_Δφ,N_λ (default 16,16,8,8; each in [2, 64])");
 }
 void finishAppearanceOptions(ft::AppearanceOptions& a, const AppearanceOptionText& text) {
   a.ao = ft::parseAoMode(text.ao);
   if (!text.dsCorrection.empty()) {
     a.dsCorrectionFile = text.dsCorrection;
     a.dualScattering = true;
+  }
+  if (!text.envTable.empty()) {
+    int d[4];
+    char tail = 0;
+    if (std::sscanf(text.envTable.c_str(), "%d,%d,%d,%d%c", &d[0], &d[1], &d[2], &d[3], &tail) != 4)
+      throw ft::InputError(fmt::format("--env-table: '{}' is not four integers N_θo,N_θj,N_Δφ,N_λ", text.envTable));
+    a.environmentTableDims = glm::ivec4(d[0], d[1], d[2], d[3]);
+  }
+  if (!text.env.empty()) {
+    a.environmentMap = text.env;
+    ft::frameEnvironmentMap(a);  // a bad map or table size is refused before anything is baked
   }
 }
 
@@ -302,6 +320,10 @@ int main(int argc, char** argv) {
   trace->add_option("--max-depth", to.maxDepth, "path length cap with --multiple-scattering")
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
+  std::string traceEnv;
+  trace->add_option("--env", traceEnv,
+                    "light by an OpenEXR lat-long map (y up, row 0 at the top; docs/srbf.md) in place of --ambient, "
+                    "sampled directly with MIS against the BCSDF (not its SRBF fit): the frame's --env ground truth");
   trace->add_option("--trace-seed", to.seed, "seed of the pixel samples")->capture_default_str()->check(kUnsignedInteger);
 
   ft::KnitCommandOptions ko;
@@ -414,6 +436,10 @@ int main(int argc, char** argv) {
     }
     if (trace->parsed()) {
       finishViewOptions(to.view, traceText);
+      if (!traceEnv.empty()) {
+        ft::readEnvironmentMap(traceEnv);  // a bad map is refused before the scene is built
+        to.environmentMap = traceEnv;
+      }
       return ft::runTraceCommand(to, std::cout);
     }
   } catch (const ft::InputError& e) {

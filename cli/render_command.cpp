@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include <iostream>
+#include <memory>
 #include <mutex>
 
 #include "gpu/fiber_gpu.h"
@@ -15,7 +16,9 @@
 #include "gpu/shading_inputs_gpu.h"
 #include "reference/shading_inputs.h"
 #include "reference/fiber_reference.h"
+#include "reference/environment_sampling.h"
 #include "reference/fiber_trace.h"
+#include "scene/environment_map.h"
 #include "scene/bcc_reader.h"
 #include "scene/default_scene.h"
 #include "scene/input_error.h"
@@ -147,6 +150,11 @@ int runTraceCommand(const TraceCommandOptions& o, std::ostream& log) {
   t.multipleScattering = o.multipleScattering;
   t.maxDepth = o.maxDepth;
   t.seed = o.seed;
+  std::unique_ptr<EnvironmentSampler> environment;
+  if (o.environmentMap) {
+    environment = std::make_unique<EnvironmentSampler>(readEnvironmentMap(*o.environmentMap));
+    t.environment = environment.get();
+  }
   // Progress on stderr, every 5 %, for renders that take a while.
   std::mutex progressMutex;
   int lastStep = -1;

@@ -54,6 +54,9 @@ struct TraceCommandOptions {
   bool multipleScattering = false;
   int maxDepth = 16;
   uint32_t seed = 1;
+  // --env FILE: the map lights the fibers in place of --ambient, sampled
+  // directly (reference/environment_sampling.h), not through its SRBF fit.
+  std::optional<std::filesystem::path> environmentMap;
 };
 
 // A loaded view: model, fitted fibers, camera, shading.

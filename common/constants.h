@@ -84,6 +84,10 @@
 #define FT_SSBO_FRAME_XI_N 58      // vec4[N_φ][N_v][N_u]: rgb ξ_N
 #define FT_SSBO_FRAME_PSI_M 59     // vec4[N_θ][N_v][N_u]: rgb Ψ_{G,M}^Fiber
 #define FT_SSBO_FRAME_PSI_N 60     // vec4[N_φ][N_v][N_u]: rgb Ψ_{G,N}^Fiber
+// SRBF environment lighting in the frame (FT_APPEARANCE_ENVIRONMENT, 001 §4.5
+// eq. 16, common/srbf_lighting.h): UBO 14–15 and SSBO 61–64 are this group's.
+#define FT_UBO_FRAME_SRBF 14        // SrbfEnvironment, then ivec4 the I_M table's dimensions
+#define FT_SSBO_FRAME_SRBF_TABLE 61 // vec4[ftSrbfTableSize]: rgb I(θ_o, θ_j, Δφ, λ) of the frame's fabric
 
 // Dual-scattering correction ξ and fiber-level shadowing (common/ds_correction.h,
 // 001 §4.3): UBO 12 and SSBO 45–50 are this group's.

@@ -78,8 +78,11 @@ GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass 
     stages.files.push_back("shaders/fiber_strip.frag.glsl");
     std::vector<std::string> defines = defines_;
     defines.insert(defines.end(), stages.defines.begin(), stages.defines.end());
-    if (pass == StripPass::ShadedDualScattering) defines.push_back("FT_FRAME_DUAL_SCATTERING");
-    else if (pass != StripPass::Shaded) defines.push_back("FT_OCCLUDER_PASS");
+    const bool ds = pass == StripPass::ShadedDualScattering || pass == StripPass::ShadedDualScatteringEnvironment;
+    const bool env = pass == StripPass::ShadedEnvironment || pass == StripPass::ShadedDualScatteringEnvironment;
+    if (ds) defines.push_back("FT_FRAME_DUAL_SCATTERING");
+    if (env) defines.push_back("FT_FRAME_ENVIRONMENT");
+    if (pass == StripPass::PlainOccluders || pass == StripPass::CoreOccluders) defines.push_back("FT_OCCLUDER_PASS");
     if (pass == StripPass::PlainOccluders) defines.push_back("FT_OCCLUDER_PLAIN");
     p = Program(buildProgram(stages.files, defines));
   }
@@ -124,6 +127,18 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   xiN_ = makeBuffer(xiN.size() * sizeof(glm::vec4), xiN.data());
   psiM_ = makeBuffer(psiM.size() * sizeof(glm::vec4), psiM.data());
   psiN_ = makeBuffer(psiN.size() * sizeof(glm::vec4), psiN.data());
+  // SRBF environment lighting (001 §4.5): the fit and the table's dimensions
+  // in one block (FT_UBO_FRAME_SRBF), the table as vec4 texels.
+  struct SrbfFrameBlock {
+    SrbfEnvironment environment;
+    glm::ivec4 dims;
+  } srbf{inputs.environment, inputs.srbfTableDims};
+  static_assert(sizeof(SrbfFrameBlock) == 544, "std140: SrbfEnvironment (528 B) then an ivec4");
+  srbfUbo_ = makeBuffer(sizeof(srbf), &srbf);
+  std::vector<glm::vec4> srbfTexels;
+  srbfTexels.reserve(inputs.srbfTable.size());
+  for (const glm::vec3& v : inputs.srbfTable) srbfTexels.emplace_back(v, 0.0f);
+  srbfTable_ = makeBuffer(srbfTexels.size() * sizeof(glm::vec4), srbfTexels.data());
 }
 
 // ---- Yarn shadow map (000 §4.1 last paragraph; common/shadow_map.h) ----
@@ -231,6 +246,8 @@ void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_XI_N, xiN_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_PSI_M, psiM_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_PSI_N, psiN_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_FRAME_SRBF, srbfUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FRAME_SRBF_TABLE, srbfTable_.id());
   if (shadowTexels_) {  // yarn shadow map (drawShadowMap)
     glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, shadowUbo_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SHADOW_MAP, shadowTexels_.id());
@@ -325,9 +342,11 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   };
   if (timings) *timings = FrameTimings{};
   double building = 0;
+  const bool ds = (inputs_.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u;
+  const bool env = (inputs_.params.flags.w & FT_APPEARANCE_ENVIRONMENT) != 0u;
   const GLuint prog = program(fibers, path,
-                              (inputs_.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u ? StripPass::ShadedDualScattering
-                                                                                              : StripPass::Shaded);
+                              ds ? (env ? StripPass::ShadedDualScatteringEnvironment : StripPass::ShadedDualScattering)
+                                 : (env ? StripPass::ShadedEnvironment : StripPass::Shaded));
   phase(building);  // a program's first build is not a phase of the frame
   if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u &&
       ((shadowModel_ != fibers.modelVersion() && !faultShadowMapStale_) || shadowInputs_ != inputsVersion_ ||

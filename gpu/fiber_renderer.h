@@ -105,7 +105,16 @@ class FiberRenderer {
   // Built on first use per path and pass (common/occlusion_cull.h).
   // ShadedDualScattering: the shaded pass with FT_FRAME_DUAL_SCATTERING, so
   // that frames without it do not pay for it (llvmpipe runs every branch).
-  enum class StripPass { Shaded, PlainOccluders, CoreOccluders, ShadedDualScattering };
+  // ShadedEnvironment(+DualScattering): with FT_FRAME_ENVIRONMENT (SRBF
+  // environment lighting, 001 §4.5), likewise only when on.
+  enum class StripPass {
+    Shaded,
+    PlainOccluders,
+    CoreOccluders,
+    ShadedDualScattering,
+    ShadedEnvironment,
+    ShadedDualScatteringEnvironment
+  };
   GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded);
   void bindShading() const;
   // The occluder pass and its depth pyramid into occlusionTexels_; binds the
@@ -114,7 +123,7 @@ class FiberRenderer {
   void bindOcclusion(bool enabled);
 
   std::vector<std::string> defines_;
-  Program programs_[2][4];  // [path][StripPass]
+  Program programs_[2][6];  // [path][StripPass]
   // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
   bool occlusionCull_ = true;
   Program pyramidProgram_;
@@ -128,6 +137,8 @@ class FiberRenderer {
   Buffer aoUbo_, aoTexels_;  // ambient occlusion (000 §4.2)
   // Dual scattering (001 §4.1, §4.3): the DS table, the ξ layout, the four ξ textures.
   Buffer dsTable_, xiUbo_, xiM_, xiN_, psiM_, psiN_;
+  // SRBF environment lighting (001 §4.5): the fit + table dimensions, the I_M table.
+  Buffer srbfUbo_, srbfTable_;
   // Yarn shadow map: depth pass program, target, and the depth copied to an SSBO for the frame.
   Program shadowProgram_;
   Texture shadowDepth_;

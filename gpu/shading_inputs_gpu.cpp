@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "scene/srbf_solve.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
 
@@ -55,6 +56,23 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
   if ((in.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u) {
     if (!ds_) ds_ = std::make_unique<DualScatteringGpu>(gl_, defines_);
     in.dsTable = ds_->bakeTable(request.params.fabric).rows;
+  }
+  // SRBF environment lighting (001 §4.5): the fit's sums by compute shader
+  // (the 17 × 17 solve on the host, as notes A9 says), the I_M table by the
+  // GPU's brute-force quadrature (gpu/srbf_table_gpu.h).
+  if (const std::optional<ImageRgbaF> env = frameEnvironmentMap(request.appearance)) {
+    if (!srbfFit_) srbfFit_ = std::make_unique<SrbfFitGpu>(gl_, defines_);
+    if (!srbfTable_) srbfTable_ = std::make_unique<SrbfTableGpu>(gl_, defines_);
+    const SrbfBasis basis = srbfFibonacciBasis();
+    const SrbfFitGpu::Sums sums = srbfFit_->normalEquations(*env, basis.axisLambda, basis.constantTerm);
+    SrbfNormalEquations eq;
+    eq.count = sums.count;
+    eq.gram.assign(sums.gram.begin(), sums.gram.end());
+    for (const glm::vec3& b : sums.rhs) eq.rhs.push_back(glm::dvec3(b));
+    in.environment = fitSrbfFromSums(basis, eq).environment;
+    in.srbfTableDims = request.appearance.environmentTableDims;
+    in.srbfTable = srbfTable_->bake(request.params.fabric, in.srbfTableDims);
+    in.params.flags.w |= FT_APPEARANCE_ENVIRONMENT;
   }
   checkShadingInputs(in);
   return in;

@@ -14,6 +14,8 @@
 #include "gpu/dual_scattering_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/self_shadow_gpu.h"
+#include "gpu/srbf_fit_gpu.h"
+#include "gpu/srbf_table_gpu.h"
 #include "scene/shading_inputs.h"
 
 namespace ft {
@@ -33,6 +35,8 @@ class ShadingBakeGpu {
   const GlInfo& gl_;
   std::vector<std::string> defines_;
   std::unique_ptr<DualScatteringGpu> ds_;
+  std::unique_ptr<SrbfFitGpu> srbfFit_;  // SRBF environment (001 §4.5), built on first use
+  std::unique_ptr<SrbfTableGpu> srbfTable_;
 };
 
 }  // namespace ft

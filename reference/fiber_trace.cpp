@@ -18,6 +18,7 @@
 #include "common/fiber_generation.h"
 #include "common/lod.h"
 #include "reference/bcsdf_sampling.h"
+#include "reference/environment_sampling.h"
 
 namespace ft {
 
@@ -349,11 +350,76 @@ struct Render {
     return ftFiberAmbient(*s, mix(ambientTable[size_t(k.x)], ambientTable[size_t(k.y)], k.z));
   }
 
+  // ---- Environment map (options->environment) ----
+  // Solid-angle density of the BCSDF mixture at ω: its density per dθ dφ over cos θ_i.
+  static double scatterPdf(const FiberScatter& scatter, vec3 t, vec3 w) {
+    const double st = std::clamp(double(dot(w, t)), -1.0, 1.0);
+    const double ct = std::sqrt(std::max(0.0, 1.0 - st * st));
+    const double a = scatter.angularDensity(w);
+    return ct > 1e-9 ? a / ct : (a > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  }
+  static double powerWeight(double a, double b) {
+    if (std::isinf(a)) return 1.0;
+    if (std::isinf(b)) return 0.0;
+    const double a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+  }
+  // h(ω) of fiber_shading.h per unit radiance from ω (the direct term of a
+  // unit light from ω).
+  vec3 response(const FiberHit& h, vec3 wo, vec3 w) const {
+    ShadingParams unit = *s;
+    unit.flags.x = 1u;
+    unit.lightDirection[0] = vec4(w, 0.0f);
+    unit.lightIrradiance[0] = vec4(1.0f, 1.0f, 1.0f, 0.0f);
+    return ftFiberDirect(unit, 0, h.t, h.n, wo);
+  }
+  // The map's own sample at a hit, MIS-weighted against the BCSDF's
+  // (`visible`: trace its visibility).
+  vec3 environmentLight(const FiberHit& h, vec3 wo, const FiberScatter& scatter, RandomStream& rng, bool visible,
+                        TraceStats& stats) const {
+    const EnvironmentSampler& env = *options->environment;
+    if (!env.samplable()) return vec3(0.0f);
+    const double u0 = rng.next(), u1 = rng.next(), u2 = rng.next();
+    const EnvironmentSampler::Sample e = env.sample(u0, u1, u2);
+    if (!(e.pdf > 0.0)) return vec3(0.0f);
+    const vec3 w(e.w);
+    const vec3 f = response(h, wo, w);
+    if (f == vec3(0.0f)) return vec3(0.0f);
+    if (visible) {
+      ++stats.shadowRays;
+      if (!unoccluded(h.position, w, h.strip)) return vec3(0.0f);
+    }
+    const double pb = scatter.scatters() ? scatterPdf(scatter, h.t, w) : 0.0;
+    return e.radiance * f * float(powerWeight(e.pdf, pb) / e.pdf);
+  }
+  // The map seen along a BCSDF-sampled ω that escaped, MIS-weighted.
+  vec3 environmentEscape(const FiberScatter& scatter, vec3 t, vec3 w) const {
+    const EnvironmentSampler& env = *options->environment;
+    const double pb = scatterPdf(scatter, t, w);
+    return env.radiance(glm::dvec3(w)) * float(powerWeight(pb, env.pdf(glm::dvec3(w))));
+  }
+  // Direct mode: the map's sample plus one BCSDF sample (in place of the ambient term).
+  vec3 environmentDirect(const FiberHit& h, vec3 wo, RandomStream& rng, TraceStats& stats) const {
+    const FiberScatter scatter(*s, h.t, h.n, wo);
+    vec3 sum = environmentLight(h, wo, scatter, rng, options->shadows, stats);
+    if (!scatter.scatters()) return sum;
+    const vec3 wi = scatter.sample(rng);
+    const vec3 weight = scatter.weight(wi);
+    if (weight == vec3(0.0f)) return sum;
+    if (options->shadows) {
+      ++stats.shadowRays;
+      if (!unoccluded(h.position, wi, h.strip)) return sum;
+    }
+    return sum + weight * environmentEscape(scatter, h.t, wi);
+  }
+
   // The path tracer (traceFibers, multiple scattering) from a camera hit.
   vec3 path(FiberHit h, vec3 wo, RandomStream& rng, TraceStats& stats) const {
     vec3 radiance(0.0f), throughput(1.0f);
+    const bool env = options->environment != nullptr;
     for (int depth = 1;; ++depth) {
       radiance += throughput * direct(h, wo, stats);
+      if (env) radiance += throughput * environmentLight(h, wo, FiberScatter(*s, h.t, h.n, wo), rng, true, stats);
       if (depth == options->maxDepth) {
         ++stats.truncatedPaths;
         break;
@@ -371,7 +437,8 @@ struct Render {
       ++stats.bounceRays;
       FiberHit next;
       if (!intersect(h.position, wi, std::numeric_limits<float>::infinity(), h.strip, next)) {
-        radiance += throughput * vec3(s->ambient);  // the uniform environment
+        if (env) radiance += throughput * environmentEscape(scatter, h.t, wi);  // the map, MIS-weighted
+        else radiance += throughput * vec3(s->ambient);  // the uniform environment
         break;
       }
       h = next;
@@ -501,7 +568,8 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
             ++typeCount[std::min<uint32_t>(render.scene->strips[h.strip].type, 3u)];
             oneStrip = oneStrip && h.strip == firstStrip;
             const vec3 L = options.multipleScattering ? render.path(h, -dir, rng, stats)
-                                                      : render.direct(h, -dir, stats) + render.ambient(h, -dir);
+                           : options.environment ? render.direct(h, -dir, stats) + render.environmentDirect(h, -dir, rng, stats)
+                                                 : render.direct(h, -dir, stats) + render.ambient(h, -dir);
             if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
               ++stats.nonFinite;
               continue;

@@ -22,6 +22,7 @@ namespace ft {
 
 struct TraceOptions;
 struct TraceResult;
+class EnvironmentSampler;
 struct TraceSample;
 
 // Unit tangent of every vertex of a canonical-order vertex stream, by the
@@ -91,6 +92,10 @@ struct TraceOptions {
   // pixel run on one thread, in order, so per-pixel sums need no lock): for
   // bakes that gather more than the image (reference/ds_correction.cpp).
   std::function<void(const TraceSample&)> onHit;
+  // An environment map lighting the fibers in place of the uniform ambient
+  // (`trace --env`; reference/environment_sampling.h): sampled directly,
+  // with MIS (power heuristic) against the BCSDF sampling. Not owned.
+  const EnvironmentSampler* environment = nullptr;
 };
 
 // What TraceOptions::onHit sees.
@@ -150,6 +155,12 @@ inline constexpr uint8_t kNoFiberType = 255;
 //    ignores the fiber it leaves likewise; Russian roulette after 3 scattering events,
 //    at most maxDepth of them; an escaping continuation sees the uniform
 //    environment s.ambient. The ambient table is not used (may be empty).
+//  * With options.environment (the map replaces s.ambient in both modes):
+//    at every fiber hit one sample of the map (EnvironmentSampler, p_e) and
+//    one of the BCSDF (FiberScatter, p_b; in path mode the continuation
+//    itself), each weighted by the power heuristic p²/(p_e² + p_b²), the map
+//    seen where a ray escapes. Direct mode: the map's sample is occluded by
+//    the fibers when options.shadows (as the lights are), else not.
 // Deterministic: every number of sample k of pixel p comes from
 // RandomStream(p, k, seed), so the image does not depend on the thread count.
 // TBB over 16×16 tiles. Throws std::invalid_argument on bad options, light

@@ -8,6 +8,8 @@
 #include "reference/core_texture.h"
 #include "reference/dual_scattering.h"
 #include "reference/self_shadow.h"
+#include "reference/srbf_fit.h"
+#include "reference/srbf_table.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
 
@@ -54,6 +56,14 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
   // the ξ textures of the bake file scaled to the model, or identity.
   frameDsCorrection(in, request.fittedPreset, request.appearance);
   if ((in.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u) in.dsTable = bakeDualScatteringCpu(request.params.fabric).rows;
+  // SRBF environment lighting (001 §4.5): the fit's sums in double, the I_M
+  // table by the analytic reduction (reference/srbf_table.h).
+  if (const std::optional<ImageRgbaF> env = frameEnvironmentMap(request.appearance)) {
+    in.environment = fitSrbfCpu(*env).environment;
+    in.srbfTableDims = request.appearance.environmentTableDims;
+    in.srbfTable = bakeSrbfTableCpu(request.params.fabric, in.srbfTableDims).asFloat();
+    in.params.flags.w |= FT_APPEARANCE_ENVIRONMENT;
+  }
   checkShadingInputs(in);
   return in;
 }

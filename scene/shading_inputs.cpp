@@ -6,7 +6,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "common/srbf_bcsdf.h"
 #include "scene/ds_correction_file.h"
+#include "scene/environment_map.h"
 #include "scene/input_error.h"
 #include "scene/lighting.h"
 #include "scene/yarn_preset.h"
@@ -192,6 +194,37 @@ void checkShadingInputs(const ShadingInputs& inputs) {
     finite(inputs.psiM, "Ψ_M");
     finite(inputs.psiN, "Ψ_N");
   }
+  // SRBF environment lighting (001 §4.5): the fit and the I_M table.
+  if ((inputs.params.flags.w & FT_APPEARANCE_ENVIRONMENT) != 0u) {
+    const glm::ivec4 d = inputs.srbfTableDims;
+    if (d.x < 2 || d.y < 2 || d.z < 2 || d.w < 2 || inputs.srbfTable.size() != size_t(d.x) * d.y * d.z * d.w)
+      throw std::invalid_argument(fmt::format("shading inputs: I_M table has {} texels, its dimensions {}×{}×{}×{}",
+                                              inputs.srbfTable.size(), d.x, d.y, d.z, d.w));
+    for (size_t k = 0; k < inputs.srbfTable.size(); ++k) {
+      const glm::vec3 v = inputs.srbfTable[k];
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        throw std::invalid_argument(fmt::format("shading inputs: I_M texel {} is not finite", k));
+    }
+    for (int j = 0; j <= FT_SRBF_LOBES; ++j) {
+      const glm::vec4 a = j < FT_SRBF_LOBES ? inputs.environment.lobes[j].weight : inputs.environment.constant;
+      const float l = j < FT_SRBF_LOBES ? inputs.environment.lobes[j].axisLambda.w : 1.0f;
+      if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(a.z) || !std::isfinite(l) || l <= 0.0f)
+        throw std::invalid_argument(fmt::format("shading inputs: SRBF lobe {} is not finite", j));
+    }
+  }
+}
+
+std::optional<ImageRgbaF> frameEnvironmentMap(const AppearanceOptions& o) {
+  if (!o.environmentImage && !o.environmentMap) return std::nullopt;
+  const glm::ivec4 d = o.environmentTableDims;
+  for (int a = 0; a < 4; ++a)
+    if (d[a] < 2 || d[a] > 64)
+      throw InputError(fmt::format("--env-table: {},{},{},{}: each size must be in [2, 64]", d.x, d.y, d.z, d.w));
+  if (o.environmentImage) {
+    checkEnvironmentMap(*o.environmentImage, "--env (in memory)");
+    return *o.environmentImage;
+  }
+  return readEnvironmentMap(*o.environmentMap);
 }
 
 CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& r, const char* who) {

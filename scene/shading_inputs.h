@@ -9,6 +9,7 @@
 #pragma once
 #include <filesystem>
 #include <glm/glm.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,9 +21,11 @@
 #include "common/fiber_shading.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
+#include "common/srbf.h"
 #include "common/yarn_density.h"
 #include "scene/ambient_occlusion_setup.h"
 #include "scene/core_texture_input.h"
+#include "image/image.h"
 
 namespace ft {
 
@@ -59,6 +62,15 @@ struct AppearanceOptions {
   // implies dualScattering (render --ds-correction FILE). docs/shaded-frame.md.
   bool dualScattering = false;
   std::optional<std::filesystem::path> dsCorrectionFile;
+  // 001 §4.5 eq. 14–16: SRBF environment lighting (FT_APPEARANCE_ENVIRONMENT,
+  // docs/srbf-lighting.md). An OpenEXR lat-long map (common/srbf.h
+  // conventions; render --env FILE), fitted with 16 SGs + the DC term by each
+  // bake, and the I_M table at environmentTableDims (N_θo, N_θj, N_Δφ, N_λ).
+  // It replaces the uniform ambient (params.ambient unused); lights still add.
+  // environmentImage: a map in memory instead of the file (the harness).
+  std::optional<std::filesystem::path> environmentMap;
+  std::shared_ptr<const ImageRgbaF> environmentImage;
+  glm::ivec4 environmentTableDims{16, 16, 8, 8};
 
   static AppearanceOptions none() {
     AppearanceOptions o;
@@ -110,6 +122,13 @@ struct ShadingInputs {
   std::vector<glm::vec4> dsTable;
   DsCorrectionLayout dsCorrection{};
   std::vector<glm::vec4> xiM, xiN, psiM, psiN;
+  // ---- SRBF environment lighting (001 §4.5; FT_APPEARANCE_ENVIRONMENT) ----
+  // The fitted map (16 lobes + DC, the frame's UBO block) and the I_M table
+  // of the frame's fabric (rgb at ftSrbfTableIndex, srbfTableDims); each
+  // side's own fit sums and table bake. Empty table when off.
+  SrbfEnvironment environment{};
+  glm::ivec4 srbfTableDims{0};
+  std::vector<glm::vec3> srbfTable;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -145,6 +164,12 @@ void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const A
 // `preset` / params.fabric: refused), its layout scaled to the model (P' =
 // preset.yarnAlpha, W' = W P'/P), or identity textures without a file.
 void frameDsCorrection(ShadingInputs& in, const struct YarnPreset* preset, const AppearanceOptions& options);
+
+// The environment map a request asks for (options.environmentImage, else the
+// file of options.environmentMap read by readEnvironmentMap), or nothing;
+// InputError naming --env (the file, the pixel) or --env-table (a size
+// outside [2, 64]).
+std::optional<ImageRgbaF> frameEnvironmentMap(const AppearanceOptions& options);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

@@ -16,6 +16,7 @@
 #include "common/shadow_map.h"
 #include "common/srbf.h"
 #include "common/srbf_bcsdf.h"
+#include "common/srbf_lighting.h"
 #include "common/yarn_frame.h"
 #include "reference/ds_correction.h"
 

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -26,8 +27,11 @@
 #include "gpu/shading_inputs_gpu.h"
 #include "reference/fiber_reference.h"
 #include "reference/ds_correction.h"
+#include "reference/environment_sampling.h"
 #include "reference/fiber_trace.h"
 #include "reference/shading_inputs.h"
+#include "reference/srbf_fit.h"
+#include "reference/srbf_table.h"
 #include "scene/fabric.h"
 #include "scene/camera.h"
 #include "scene/lighting.h"
@@ -501,6 +505,27 @@ std::vector<Approximation> aoFidelityRows() {
   return {{"none", AppearanceOptions::none()}, {"ao-fit", fit}, {"ao-texture", texture}};
 }
 
+// ---- SRBF environment lighting (001 §4.5) in the fidelity table ----
+// Light "env": the procedural sky alone (makeProceduralSky(256, 128), bit for
+// bit data/env/sky.exr: SrbfFit.ShippedSkyMap), no directional light. The
+// frame sees its 16-SRBF + DC fit through the I_M table (CI size here); the
+// reference is path traced (depth 8, the GPU's 4 sample positions) under the
+// map itself, sampled directly with MIS (reference/environment_sampling.h),
+// so the fit's cost shows. Informational: docs/srbf-lighting.md.
+constexpr int kEnvFidelityDepth = 8;
+std::shared_ptr<const ImageRgbaF> fidelitySky() {
+  static const std::shared_ptr<const ImageRgbaF> sky = std::make_shared<ImageRgbaF>(makeProceduralSky(256, 128));
+  return sky;
+}
+std::vector<Approximation> envFidelityRows() {
+  AppearanceOptions env = AppearanceOptions::none();
+  env.environmentImage = fidelitySky();
+  env.environmentTableDims = kSrbfTableCiDims;
+  AppearanceOptions envShadow = env;
+  envShadow.selfShadow = true;
+  return {{"environment", env}, {"environment+self-shadow", envShadow}};
+}
+
 // ---- Dual scattering (001 §4.1, §4.3) in the fidelity table ----
 // Dual scattering approximates the light scattered between fibers, so its
 // rows ("front-ms", "back-ms") are judged against the path-traced all-fiber
@@ -560,9 +585,14 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   r.path = "compute";
   GroundTruthInputs& in = groundTruthInputs(ctx);
   const bool ambientOnly = light.rfind("ambient", 0) == 0;  // the AO rows (above)
+  const bool envLight = light == "env";                     // the SRBF rows (above)
   const bool multiple = multipleScatteringLight(light);  // the dual-scattering rows (above)
   const std::string baseLight = multiple ? light.substr(0, light.size() - 3) : light;
-  Lighting lighting = caseLighting(fabric, lightDirection(ambientOnly ? "front" : baseLight, in.camera));
+  Lighting lighting = caseLighting(fabric, lightDirection(ambientOnly || envLight ? "front" : baseLight, in.camera));
+  if (envLight) {
+    lighting.lights.clear();
+    lighting.ambient = glm::vec3(0.0f);
+  }
   if (ambientOnly) {
     lighting.lights.clear();
     lighting.ambient = glm::vec3(kAoFidelityAmbient);
@@ -596,6 +626,13 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
         if (multiple) {  // light scattered between fibers: path traced
           o.multipleScattering = true;
           o.maxDepth = kDsFidelityDepth;
+        }
+        std::unique_ptr<EnvironmentSampler> sampler;
+        if (envLight) {  // the map itself, path traced
+          sampler = std::make_unique<EnvironmentSampler>(*fidelitySky());
+          o.environment = sampler.get();
+          o.multipleScattering = true;
+          o.maxDepth = kEnvFidelityDepth;
         }
         return traceFibers(scene, in.camera, s,
                            bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable, o);
@@ -863,6 +900,11 @@ void addShadingCases(ValidationContext& ctx, std::vector<ValidationCase>& out) {
       const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
       out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
     }
+  // Path traced under the sky: on the built-in scene only (informational; CI time).
+  for (const Approximation& row : ctx.options().model ? std::vector<Approximation>{} : envFidelityRows()) {
+    const std::string name = fmt::format("shading/fidelity/{}/env/{}", kFullFabric, row.name);
+    out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, "env", row, name); }});
+  }
   for (const char* light : {"ambient", "ambient-single"})
     for (const Approximation& row : aoFidelityRows()) {
       const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);

@@ -27,6 +27,7 @@
 #include "common/occlusion_cull.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
+#include "common/srbf.h"
 #include "common/view_params.h"
 
 layout(std140, binding = FT_UBO_VIEW_PARAMS) uniform ViewBlock { ViewParams view; };
@@ -57,6 +58,17 @@ layout(std430, binding = FT_SSBO_FRAME_XI_M) readonly buffer FrameXiM { vec4 xiM
 layout(std430, binding = FT_SSBO_FRAME_XI_N) readonly buffer FrameXiN { vec4 xiN[]; };
 layout(std430, binding = FT_SSBO_FRAME_PSI_M) readonly buffer FramePsiM { vec4 psiM[]; };
 layout(std430, binding = FT_SSBO_FRAME_PSI_N) readonly buffer FramePsiN { vec4 psiN[]; };
+#ifdef FT_FRAME_ENVIRONMENT
+// SRBF environment lighting (001 §4.5 eq. 16, common/srbf_lighting.h): the
+// fitted map and the I_M table of the fabric; only in this variant of the
+// shaded pass (FiberRenderer), so frames without it keep their SSBO count.
+layout(std140, binding = FT_UBO_FRAME_SRBF) uniform FrameSrbfBlock {
+  SrbfEnvironment environment;
+  ivec4 srbfDims;
+};
+layout(std430, binding = FT_SSBO_FRAME_SRBF_TABLE) readonly buffer FrameSrbfTable { vec4 srbfTable[]; };
+#include "common/srbf_lighting.h"
+#endif
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -437,8 +449,24 @@ vec3 shadeFiber(FiberHit h) {
   FiberAngles o = ftFiberAngles(h.tangent, v, v);
   vec3 k = ftAmbientLookup(o.thetaO, FT_AMBIENT_TABLE_SIZE);
   vec3 table = mix(ambientTable[int(k.x)].xyz, ambientTable[int(k.y)].xyz, k.z);
+#ifdef FT_FRAME_ENVIRONMENT
+  // The environment replaces the uniform ambient (docs/srbf-lighting.md):
+  // T̃_j = the self-shadow T along the lobe's axis (eq. 17's fiber-level
+  // shadowing at ω_d := μ_j; PCSS's T̃^Yarn would multiply in here), the DC
+  // term's visibility the AO, as the uniform ambient's.
+  float lobeT[FT_SRBF_LOBES];
+  for (int j = 0; j < FT_SRBF_LOBES; ++j)
+    lobeT[j] = selfShadowT ? selfShadowTransmittance(c, environment.lobes[j].axisLambda.xyz) : 1.0;
+  vec3 wo = v;
+#ifdef FT_FAULT_FRAME_ENV_VIEW_REVERSED
+  wo = -v;  // the eye ray's propagation taken for ω_o
+#endif
+  return radiance + ftSrbfFrameRadiance(shading, environment, srbfDims, h.tangent, h.normal, wo, table,
+                                        ambientVisibility, lobeT);
+#else
   // 000 §4.2, Fig. 12d: AO scales the ambient term only.
   return radiance + ftFiberAmbient(shading, table) * ambientVisibility;
+#endif
 }
 
 void main() {
