@@ -17,6 +17,7 @@
 #include "common/srbf.h"
 #include "common/srbf_bcsdf.h"
 #include "common/yarn_frame.h"
+#include "knit/knit_render.h"
 #include "reference/ds_correction.h"
 
 namespace ft {
@@ -69,6 +70,7 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
   if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
   if (define == "FT_FAULT_FRAME_DS_UNSCALED") ftFaultFrameDsUnscaled = on;
+  if (define == "FT_FAULT_KNIT_LENGTH_NOT_ADOPTED") ftFaultKnitLengthNotAdopted = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
