@@ -9,6 +9,15 @@
 //   BM_KnitGpuOptimize/R/C  KnitGpu::optimize(): knit_optimize.comp.glsl, one invocation
 //                           per stitch (float);
 //   BM_KnitGpuFull/R/C      optimize() + upsample() (Catmull–Rom rendering vertices).
+//   BM_KnitShaded{Compute,Tessellation}/20/20
+//                           the shaded frame of `fibertwin knit` (docs/knit-rendering.md)
+//                           of the 20×20 patch (the GPU solve's yarns, the rest state's
+//                           length coordinates, the knit camera) at --shaded_width ×
+//                           --shaded_height (1280×960), every approximation of 000 §4
+//                           at its default, occlusion culling on; the inputs baked once
+//                           (not timed), the shadow map redrawn every frame (as for a
+//                           new frame of a sequence: the model changes); counters: the
+//                           phases of one more frame (FrameTimings).
 // Not timed, on every path: the problem setup (buildKnitSetup: mesh → per-stitch
 // problems), the GPU records and uploads (setStitches, setYarnList) and the
 // read-backs. Each size is set up once per process, on first use.
@@ -38,9 +47,14 @@
 #include <vector>
 
 #include "bench/bench_flags.h"
+#include "gpu/fiber_gpu.h"
+#include "gpu/fiber_renderer.h"
 #include "gpu/gl_context.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/knit_gpu.h"
+#include "gpu/shading_inputs_gpu.h"
+#include "knit/knit_render.h"
+#include "scene/lighting.h"
 #include "knit/knit_problem.h"
 #include "knit/stitch_mesh.h"
 #include "reference/knit_reference.h"
@@ -70,6 +84,7 @@ struct Problem {
 
 struct Setup {
   int largeIterations = 5;  // 0: let --benchmark_min_time decide
+  int shadedWidth = 1280, shadedHeight = 960;
   std::unique_ptr<ft::GlContext> gl;
   std::unique_ptr<ft::GpuTimer> timer;
   std::map<std::pair<int, int>, Problem> problems;
@@ -163,6 +178,54 @@ void BM_KnitGpuFull(benchmark::State& state) {
   if (pointsFinite(state, *p.gpu, p.setup)) setCounters(state, p.setup);
 }
 
+// The knit command's shaded frame of one patch (Args = rows, cols): solved on
+// the GPU once, its buffers with the rest lengths, inputs baked once.
+void BM_KnitShaded(benchmark::State& state, ft::FiberPath path) {
+  const int rows = static_cast<int>(state.range(0)), cols = static_cast<int>(state.range(1));
+  Problem& p = problem(rows, cols, true);
+  const ft::StitchMesh rest = ft::makeStockinette(rows, cols);
+  const ft::KnitOptions options;
+  const ft::YarnModel model = ft::knitYarnModelFromVertices(p.setup, p.gpu->readVertices());
+  const ft::YarnBuffers buffers = ft::knitFrameBuffers(model, ft::knitRestBuffers(rest, options));
+  const ft::FittedFibers fibers = ft::knitFibers(ft::findYarnPreset("cotton1"), options, ft::FiberOptions{});
+  const ft::Camera camera = ft::knitCamera(p.setup, g->shadedWidth, g->shadedHeight);
+  const ft::GlInfo& gi = g->gl->info();
+  ft::FiberGpu gpu(gi);
+  ft::FiberRenderer renderer(gi);
+  gpu.setModel(buffers, fibers.table);
+  gpu.setParams(fibers.params, ft::makeViewParams(camera, 1.0f, true, true));
+  renderer.setShading(ft::ShadingBakeGpu(gi).bake(
+      {ft::makeShadingParams(ft::Lighting{}), &fibers.fit.preset, ft::AppearanceOptions{}, &fibers.params, &fibers.table}));
+  const int w = g->shadedWidth, h = g->shadedHeight;
+  renderer.draw(gpu, path, w, h);  // warm-up: shader variants, buffer sizes, the target
+  glFinish();
+  for (auto _ : state) {
+    gpu.setModel(buffers, fibers.table);  // a new frame of a sequence: the shadow map is redrawn
+    glFinish();
+    g->timer->begin();
+    renderer.draw(gpu, path, w, h);
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  gpu.setModel(buffers, fibers.table);
+  ft::FrameTimings t;
+  renderer.draw(gpu, path, w, h, &t);
+  state.counters["shadow_map_ms"] = t.shadowMapMs;
+  state.counters["generate_ms"] = t.generateMs;
+  state.counters["occluder_pass_ms"] = t.depthMs;
+  state.counters["shaded_pass_ms"] = t.shadeMs;
+  state.counters["occluded_fraction"] = renderer.occludedFraction();
+  state.counters["segments"] = double(buffers.segments.size());
+  const ft::ImageRgbaF img = renderer.read();
+  double covered = 0.0;
+  for (size_t i = 0; i < img.pixelCount(); ++i) {
+    if (!std::isfinite(img.pixels[4 * i]) || !std::isfinite(img.pixels[4 * i + 1]) || !std::isfinite(img.pixels[4 * i + 2])) {
+      state.SkipWithError("non-finite pixel value");
+      return;
+    }
+    covered += img.pixels[4 * i + 3];
+  }
+  state.counters["covered_fraction"] = covered / double(img.pixelCount());
+}
 
 }  // namespace
 
@@ -172,6 +235,8 @@ int main(int argc, char** argv) {
   try {
     if (std::string n; ft::takeFlag(argc, argv, "large_iterations", n))
       setup.largeIterations = std::max(0, std::atoi(n.c_str()));
+    if (std::string n; ft::takeFlag(argc, argv, "shaded_width", n)) setup.shadedWidth = std::max(16, std::atoi(n.c_str()));
+    if (std::string n; ft::takeFlag(argc, argv, "shaded_height", n)) setup.shadedHeight = std::max(16, std::atoi(n.c_str()));
 
     setup.gl = ft::GlContext::create(ft::glBackendFromEnv());
     const ft::GlInfo& gi = setup.gl->info();
@@ -211,6 +276,16 @@ int main(int argc, char** argv) {
         if (rows * cols > kLargeStitches && setup.largeIterations > 0) b->Iterations(setup.largeIterations);
       }
     }
+
+    for (const auto& [name, path] : {std::pair{"BM_KnitShadedCompute", ft::FiberPath::Compute},
+                                     std::pair{"BM_KnitShadedTessellation", ft::FiberPath::Tessellation}})
+      benchmark::RegisterBenchmark(name, BM_KnitShaded, path)
+          ->Args({20, 20})
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime()
+          ->Iterations(2);
+    benchmark::AddCustomContext("shaded_viewport", fmt::format("{}x{}, 4x MSAA, RGBA32F; cotton1, cotton, defaults of "
+                                                               "render", setup.shadedWidth, setup.shadedHeight));
 
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

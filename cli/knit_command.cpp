@@ -11,6 +11,7 @@
 #include "gpu/fiber_gpu.h"
 #include "gpu/fiber_renderer.h"
 #include "gpu/knit_gpu.h"
+#include "knit/knit_render.h"
 #include "reference/knit_reference.h"
 #include "scene/bcc_reader.h"
 #include "scene/camera.h"
@@ -73,9 +74,18 @@ std::filesystem::path frameFileName(const std::filesystem::path& path, int index
 int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   if (o.solver != "gpu" && o.solver != "cpu")
     throw InputError(fmt::format("--solver: '{}' is neither gpu nor cpu", o.solver));
+  if (o.path != "compute" && o.path != "tessellation")
+    throw InputError(fmt::format("--path: '{}' is neither compute nor tessellation", o.path));
+  if (!o.image.empty()) {
+    if (o.preview && o.image.extension() != ".png")
+      throw InputError(fmt::format("--image: '{}' must end in .png with --preview", o.image.string()));
+    checkFrameImagePath(o.image, "--image");
+  }
+  if (!o.reference.empty()) checkFrameImagePath(o.reference, "--reference");
   validateKnitOptions(o.knit);
   const YarnPreset preset = overrideYarnPreset(findYarnPreset(o.yarn), o.presetOverrides);
   checkFiberOptions(preset, o.fiber);
+  const ShadingParams shading = makeShadingParams(o.lighting);  // bad lighting options fail before any work
   auto [rest, frames] = loadFrames(o);
   // Every frame's problems before any GL work: bad meshes are rejected first.
   std::vector<KnitSetup> setups;
@@ -94,22 +104,40 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
   if (needGl) context = GlContext::create(o.backend);
   if (o.solver == "gpu") knitGpu = std::make_unique<KnitGpu>(context->info());
 
-  FiberSetup fibers;
+  const bool drawn = !o.image.empty() || !o.reference.empty();
+  const FiberPath path = o.path == "compute" ? FiberPath::Compute : FiberPath::Tessellation;
+  FittedFibers fibers, allFibers;
   YarnBuffers restBuffers;
-  if (!o.image.empty()) {
-    FittedFibers fitted = fitFibers(preset, o.knit.yarnRadius, "the knot yarn radius", o.fiber);
-    fibers = fitted;
-    log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({})\n", preset.name, fitted.fit.scale,
-                       fitted.fit.radius, fitted.fit.source);
-    fiberGpu = std::make_unique<FiberGpu>(context->info());
-    renderer = std::make_unique<FiberRenderer>(context->info());
+  // One camera for a whole sequence, framing the last (most deformed) frame.
+  const Camera camera = knitCamera(setups.back(), o.width, o.height);
+  if (drawn) {
+    fibers = knitFibers(preset, o.knit, o.fiber);
+    log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", preset.name,
+                       fibers.fit.scale, fibers.fit.radius, fibers.fit.source, o.lighting.fabric,
+                       o.preview ? "preview" : o.lighting.model);
     // Fibers follow the yarn material: every frame keeps the rest state's
     // length coordinates, so twist and flyaways stretch with the yarn instead
     // of sliding along it.
-    const KnitSetup restSetup = buildKnitSetup(rest, rest, o.knit);
-    restBuffers = buildYarnBuffers(knitYarnModel(restSetup, liftKnitPoints(restSetup, initialKnitPoints(restSetup)), true));
+    restBuffers = knitRestBuffers(rest, o.knit);
   }
-  Camera camera;
+  if (!o.reference.empty()) {
+    FiberOptions all = o.fiber;
+    all.allFibers = true;  // the all-fiber reference: every fiber of the preset, no core, no LoD
+    allFibers = knitFibers(preset, o.knit, all);
+  }
+  if (!o.image.empty()) {
+    fiberGpu = std::make_unique<FiberGpu>(context->info());
+    renderer = std::make_unique<FiberRenderer>(context->info());
+    if (!o.preview) {
+      // The inputs depend on the lighting, the fabric and the fitted preset
+      // only: baked once for the whole sequence. The shadow map follows each
+      // frame's yarns (FiberRenderer::draw redraws it after setModel).
+      const auto t0 = std::chrono::steady_clock::now();
+      renderer->setShading(bakeFrameInputs(context->info(), {}, shading, fibers, o.appearance));
+      renderer->setOcclusionCull(o.occlusionCull);
+      log << fmt::format("shading inputs baked once for {} frame(s): {:.0f} ms\n", frames.size(), msSince(t0));
+    }
+  }
   const bool sequence = frames.size() > 1;
   for (size_t fi = 0; fi < frames.size(); ++fi) {
     const KnitSetup& setup = setups[fi];
@@ -146,29 +174,43 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
         bccPath.string(), setup.faceCount, setup.stitchCount, setup.tileCount(), model.curves.size(), vertices,
         before, after,
         o.knit.iterations, setupMs[fi], o.solver, solveMs);
+    if (!drawn) continue;
+    const YarnBuffers buffers = knitFrameBuffers(model, restBuffers);
     if (!o.image.empty()) {
-      // One camera for a whole sequence, framing the last (most deformed) frame.
-      if (fi == 0) {
-        YarnModel framing = model;
-        if (sequence) {
-          const KnitSetup& last = setups.back();
-          framing = knitYarnModel(last, liftKnitPoints(last, initialKnitPoints(last)), false);
-        }
-        camera = frameModel(framing, glm::vec3(0.15f, -0.35f, 1.0f), o.width, o.height);
-      }
-      YarnBuffers buffers = buildYarnBuffers(model);
-      adoptLengthCoordinates(buffers, restBuffers);
+      const auto t2 = std::chrono::steady_clock::now();
       fiberGpu->setModel(buffers, fibers.table);
       checkBeforeDrawing(model.name, buffers, fiberGpu->readFrames());  // no partial image from NaN frames
       fiberGpu->setParams(fibers.params, makeViewParams(camera, 1.0f, true, true));
-      RenderStyle style;
-      style.lightDir = glm::normalize(glm::vec3(0.3f, 0.6f, 0.8f));
-      const auto t2 = std::chrono::steady_clock::now();
-      const RgbaImage image = renderer->preview(*fiberGpu, FiberPath::Compute, o.width, o.height, style);
       const std::filesystem::path imagePath = sequence ? frameFileName(o.image, int(fi)) : o.image;
-      writePng(imagePath, image);
-      log << fmt::format("{}: {}x{}, yarn {}, fiber compute path, {:.0f} ms on {}\n", imagePath.string(), o.width,
-                         o.height, preset.name, msSince(t2), context->info().renderer);
+      if (o.preview) {
+        RenderStyle style;
+        style.lightDir = glm::vec3(shading.lightDirection[0]);
+        writePng(imagePath, renderer->preview(*fiberGpu, path, o.width, o.height, style));
+        log << fmt::format("{}: {}x{}, yarn {}, {} path, preview, {:.0f} ms on {}\n", imagePath.string(), o.width,
+                           o.height, preset.name, o.path, msSince(t2), context->info().renderer);
+      } else {
+        FrameTimings t;
+        const ImageRgbaF image = drawShadedFrame(*renderer, *fiberGpu, path, o.width, o.height,
+                                                 fmt::format("{}, the {} path", model.name, o.path), &t);
+        const double frameMs = msSince(t2);
+        const auto files = writeFrameImage(imagePath, o.display, image);
+        log << fmt::format("{}: {}x{}, {} path, frame {:.0f} ms = shadow map {:.0f} + generation {:.0f} + occluder pass "
+                           "{:.0f} + shaded pass {:.0f} + upload and read-back {:.0f}, on {}\n",
+                           files.front().string(), o.width, o.height, o.path, frameMs, t.shadowMapMs, t.generateMs,
+                           t.depthMs, t.shadeMs, frameMs - t.totalMs(),
+                           context->info().renderer);
+      }
+    }
+    if (!o.reference.empty()) {
+      const std::filesystem::path refPath = sequence ? frameFileName(o.reference, int(fi)) : o.reference;
+      const auto t3 = std::chrono::steady_clock::now();
+      // The reference is lit as the frame is: render's --env map, sampled directly.
+      TraceSettings trace = o.trace;
+      if (o.appearance.environmentMap) trace.environmentMap = o.appearance.environmentMap;
+      const TraceResult r = traceFrame(model.name, buffers, allFibers, camera, false, shading, trace, log);
+      const auto files = writeFrameImage(refPath, o.display, r.image);
+      log << fmt::format("{}: the path-traced all-fiber reference ({} fibers per ply), {:.1f} s\n",
+                         files.front().string(), allFibers.params.regularFibers, msSince(t3) * 1e-3);
     }
   }
   return 0;

@@ -148,34 +148,43 @@ std::string shellQuote(const std::string& s) {
 std::string vec3Text(glm::vec3 v) {
   return v.x == v.y && v.y == v.z ? fmt::format("{:g}", v.x) : fmt::format("{:g},{:g},{:g}", v.x, v.y, v.z);
 }
-struct ViewOptionText {
-  ft::ViewOptions defaults;
-  CameraText camera;
-  std::string model, view = vec3Text(defaults.viewDir), light = vec3Text(defaults.lighting.lights[0].direction),
-                     irradiance = vec3Text(defaults.lighting.lights[0].irradiance),
-                     ambient = vec3Text(defaults.lighting.ambient), diffuse = vec3Text(defaults.lighting.diffuse),
-                     tone = "aces";
+// The lighting and display options of every command that shades a frame
+// (render, trace, knit), as typed; defaults from ft::Lighting.
+struct LightingOptionText {
+  ft::Lighting defaults;
+  std::string light = vec3Text(defaults.lights[0].direction), irradiance = vec3Text(defaults.lights[0].irradiance),
+              ambient = vec3Text(defaults.ambient), diffuse = vec3Text(defaults.diffuse), tone = "aces";
 };
-
-void addViewOptions(CLI::App* app, ft::ViewOptions& v, ViewOptionText& text) {
-  app->add_option("--model", text.model, "BCC yarn model (default: the built-in scene)");
-  app->add_option("--yarn", v.yarn, "yarn preset")->capture_default_str();
-  app->add_option("--fabric", v.lighting.fabric, "fiber scattering preset: fleece, gabardine, silk, cotton, polyester")
+void addLightingOptions(CLI::App* app, ft::Lighting& lighting, ft::DisplayMapping& display, LightingOptionText& text) {
+  app->add_option("--fabric", lighting.fabric, "fiber scattering preset: fleece, gabardine, silk, cotton, polyester")
       ->capture_default_str();
-  app->add_option("--shading", v.lighting.model, "khungurn (000 eq. 6 with the ambient table) or simple (eq. 5)")
+  app->add_option("--shading", lighting.model, "khungurn (000 eq. 6 with the ambient table) or simple (eq. 5)")
       ->capture_default_str();
-  app->add_option("--out", v.out, "output: .exr writes the linear EXR and a tone-mapped PNG beside it; .png the PNG only")
-      ->capture_default_str();
-  app->add_option("--width", v.width)->capture_default_str()->check(CLI::Range(16, 8192));
-  app->add_option("--height", v.height)->capture_default_str()->check(CLI::Range(16, 8192));
   app->add_option("--light", text.light, "direction towards the (one) directional light, x,y,z")->capture_default_str();
   app->add_option("--light-irradiance", text.irradiance, "its irradiance: one value or r,g,b")->capture_default_str();
   app->add_option("--ambient", text.ambient, "uniform ambient radiance L_amb: one value or r,g,b")->capture_default_str();
   app->add_option("--diffuse", text.diffuse, "k_d in [0, 1]: the diffuse share of the scattered energy (the BCSDF gets 1 - k_d): one value or r,g,b")
       ->capture_default_str();
-  app->add_option("--exposure", v.display.exposure, "PNG only: exposure in stops before tone mapping")
+  app->add_option("--exposure", display.exposure, "PNG only: exposure in stops before tone mapping")
       ->capture_default_str();
   app->add_option("--tonemap", text.tone, "PNG only: aces or clamp")->capture_default_str();
+}
+
+struct ViewOptionText {
+  ft::ViewOptions defaults;
+  CameraText camera;
+  LightingOptionText lighting;
+  std::string model, view = vec3Text(defaults.viewDir);
+};
+
+void addViewOptions(CLI::App* app, ft::ViewOptions& v, ViewOptionText& text) {
+  app->add_option("--model", text.model, "BCC yarn model (default: the built-in scene)");
+  app->add_option("--yarn", v.yarn, "yarn preset")->capture_default_str();
+  app->add_option("--out", v.out, "output: .exr writes the linear EXR and a tone-mapped PNG beside it; .png the PNG only")
+      ->capture_default_str();
+  app->add_option("--width", v.width)->capture_default_str()->check(CLI::Range(16, 8192));
+  app->add_option("--height", v.height)->capture_default_str()->check(CLI::Range(16, 8192));
+  addLightingOptions(app, v.lighting, v.display, text.lighting);
   app->add_option("--view", text.view, "direction from the model towards the camera, x,y,z")->capture_default_str();
   app->add_option("--distance", v.distance,
                   "frame (whole model), closeup (a yarn segment spans 1/16 of the frame height), near, mid or far "
@@ -194,17 +203,38 @@ glm::vec3 parseColor(const std::string& s, const char* option) {
   throw ft::InputError(fmt::format("{}: '{}' is neither a number nor r,g,b", option, s));
 }
 
+void finishLightingOptions(ft::Lighting& lighting, ft::DisplayMapping& display, const LightingOptionText& text) {
+  lighting.lights = {ft::DirectionalLight{parseVec3(text.light, "--light"), parseColor(text.irradiance, "--light-irradiance")}};
+  lighting.ambient = parseColor(text.ambient, "--ambient");
+  lighting.diffuse = parseColor(text.diffuse, "--diffuse");
+  if (text.tone == "aces") display.tone = ft::ToneMap::Aces;
+  else if (text.tone == "clamp") display.tone = ft::ToneMap::Clamp;
+  else throw ft::InputError(fmt::format("--tonemap: '{}' is neither aces nor clamp", text.tone));
+  if (!std::isfinite(display.exposure)) throw ft::InputError("--exposure: not a finite number");
+}
+
 void finishViewOptions(ft::ViewOptions& v, const ViewOptionText& text) {
   if (!text.model.empty()) v.model = text.model;
   v.viewDir = parseVec3(text.view, "--view");
-  v.lighting.lights = {ft::DirectionalLight{parseVec3(text.light, "--light"), parseColor(text.irradiance, "--light-irradiance")}};
-  v.lighting.ambient = parseColor(text.ambient, "--ambient");
-  v.lighting.diffuse = parseColor(text.diffuse, "--diffuse");
-  if (text.tone == "aces") v.display.tone = ft::ToneMap::Aces;
-  else if (text.tone == "clamp") v.display.tone = ft::ToneMap::Clamp;
-  else throw ft::InputError(fmt::format("--tonemap: '{}' is neither aces nor clamp", text.tone));
-  if (!std::isfinite(v.display.exposure)) throw ft::InputError("--exposure: not a finite number");
+  finishLightingOptions(v.lighting, v.display, text.lighting);
   v.camera = parseCameraText(text.camera);
+}
+
+// How the ground truth is traced: `trace`, and `knit --reference`.
+void addTraceSettings(CLI::App* app, ft::TraceSettings& t) {
+  app->add_option("--spp", t.samplesPerPixel, "samples per pixel of the trace")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 65536));
+  app->add_flag("!--no-shadows", t.shadows, "trace without shadow rays (the configuration the GPU render matches)");
+  app->add_flag("--multiple-scattering", t.multipleScattering,
+                "path-trace multiple scattering; the ambient then comes from escaping rays")
+      ->capture_default_str();
+  app->add_option("--max-depth", t.maxDepth, "path length cap with --multiple-scattering")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
+  app->add_option("--trace-seed", t.seed, "seed of the trace's pixel samples")
+      ->capture_default_str()
+      ->check(kUnsignedInteger);
 }
 
 // 000 §4 / 001 §4's approximations of the shaded frame, as typed: one place
@@ -309,29 +339,22 @@ int main(int argc, char** argv) {
   auto* trace = app.add_subcommand(
       "trace", "ray-trace the same view with Embree (every fiber a round curve): the ground truth, EXR + PNG");
   addViewOptions(trace, to.view, traceText);
-  trace->add_option("--spp", to.samplesPerPixel, "samples per pixel")->capture_default_str()->check(CLI::Range(1, 65536));
+  addTraceSettings(trace, to);
   trace->add_flag("--all-fibers", to.view.fiber.allFibers,
                   "the all-fiber reference: every fiber of the preset explicit (fiber_num per ply), no core, no LoD "
                   "(docs/ground-truth.md)");
-  trace->add_flag("!--no-shadows", to.shadows, "no shadow rays (the configuration the GPU render matches)");
-  trace->add_flag("--multiple-scattering", to.multipleScattering,
-                  "path-trace multiple scattering; the ambient then comes from escaping rays")
-      ->capture_default_str();
-  trace->add_option("--max-depth", to.maxDepth, "path length cap with --multiple-scattering")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 1024));
   std::string traceEnv;
   trace->add_option("--env", traceEnv,
                     "light by an OpenEXR lat-long map (y up, row 0 at the top; docs/srbf.md) in place of --ambient, "
                     "sampled directly with MIS against the BCSDF (not its SRBF fit): the frame's --env ground truth");
-  trace->add_option("--trace-seed", to.seed, "seed of the pixel samples")->capture_default_str()->check(kUnsignedInteger);
 
   ft::KnitCommandOptions ko;
   std::vector<std::string> knitMeshes;
-  std::string knitBcc = ko.bcc.string(), knitImage = ko.image.string();
+  std::string knitBcc = ko.bcc.string(), knitImage = ko.image.string(), knitReference;
   bool knitNoImage = false;
   auto* knit = app.add_subcommand(
-      "knit", "optimize the yarn curves of a deformed stitch mesh (knot-based Gauss-Newton); write BCC and PNG");
+      "knit", "optimize the yarn curves of a deformed stitch mesh (knot-based Gauss-Newton); write BCC and the "
+              "shaded frame (EXR + PNG)");
   knit->add_option("--mesh", knitMeshes,
                    "stitch mesh OBJ (docs/stitch-meshes.md); give several for animation frames, the first being the "
                    "rest state (default: a built-in patch)");
@@ -354,8 +377,23 @@ int main(int argc, char** argv) {
   knit->add_option("--w-angle", ko.knit.wAngle, "eq. 3 weight of the angle energy")->capture_default_str();
   knit->add_option("--w-length", ko.knit.wLength, "eq. 3 weight of the length energy")->capture_default_str();
   knit->add_option("--out", knitBcc, "output BCC yarn curves")->capture_default_str();
-  knit->add_option("--image", knitImage, "output PNG")->capture_default_str();
+  knit->add_option("--image", knitImage,
+                   "the shaded frame of `render`: .exr writes the linear EXR and a tone-mapped PNG beside it, .png "
+                   "the PNG only (sequences: _000, _001, ...)")
+      ->capture_default_str();
   knit->add_flag("--no-image", knitNoImage, "write the BCC only");
+  knit->add_flag("--preview", ko.preview, "the harness thumbnails' preview style instead of the shaded frame (PNG)");
+  knit->add_option("--path", ko.path, "compute or tessellation")->capture_default_str();
+  knit->add_flag("!--no-occlusion-cull", ko.occlusionCull,
+                 "shade every fragment: without the occluder pass that skips hidden lines (the frame is the same)");
+  knit->add_option("--reference", knitReference,
+                   "also path-trace each frame's all-fiber reference (Embree: every fiber of the preset, no core, no "
+                   "LoD; same fibers, camera and lights) to this .exr/.png; --spp, --multiple-scattering, ... set it");
+  addTraceSettings(knit, ko.trace);
+  LightingOptionText knitLighting;
+  addLightingOptions(knit, ko.lighting, ko.display, knitLighting);
+  AppearanceOptionText knitAppearance;
+  addAppearanceOptions(knit, ko.appearance, knitAppearance);
   knit->add_option("--width", ko.width)->capture_default_str()->check(CLI::Range(16, 8192));
   knit->add_option("--height", ko.height)->capture_default_str()->check(CLI::Range(16, 8192));
   knit->add_option("--yarn", ko.yarn, "yarn preset for the fibers")->capture_default_str();
@@ -401,6 +439,10 @@ int main(int argc, char** argv) {
       for (const std::string& m : knitMeshes) ko.meshes.emplace_back(m);
       ko.bcc = knitBcc;
       ko.image = knitNoImage ? std::filesystem::path() : std::filesystem::path(knitImage);
+      if (ko.preview && ko.image.extension() == ".exr") ko.image.replace_extension(".png");
+      ko.reference = knitReference;
+      finishLightingOptions(ko.lighting, ko.display, knitLighting);
+      finishAppearanceOptions(ko.appearance, knitAppearance);
       ko.backend = parseBackend(backend);
       return ft::runKnitCommand(ko, std::cout);
     }

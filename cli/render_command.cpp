@@ -43,9 +43,7 @@ size_t nonFiniteValues(const ImageRgbaF& image) {
 }  // namespace
 
 PreparedView prepareView(const ViewOptions& o) {
-  const std::string ext = o.out.extension().string();
-  if (ext != ".exr" && ext != ".png")
-    throw InputError(fmt::format("--out: '{}' must end in .exr (EXR and PNG) or .png", o.out.string()));
+  checkFrameImagePath(o.out, "--out");
   PreparedView v;
   v.model = o.model ? readBcc(*o.model) : makeDefaultScene();
   v.buffers = buildYarnBuffers(v.model);
@@ -61,16 +59,88 @@ PreparedView prepareView(const ViewOptions& o) {
 ViewParams viewParamsOf(const PreparedView& v) { return makeViewParams(v.camera, 1.0f, v.lod, true); }
 
 std::vector<std::filesystem::path> writeImage(const ViewOptions& o, const ImageRgbaF& image) {
+  return writeFrameImage(o.out, o.display, image);
+}
+
+void checkFrameImagePath(const std::filesystem::path& out, const char* option) {
+  const std::string ext = out.extension().string();
+  if (ext != ".exr" && ext != ".png")
+    throw InputError(fmt::format("{}: '{}' must end in .exr (EXR and PNG) or .png", option, out.string()));
+}
+
+std::vector<std::filesystem::path> writeFrameImage(const std::filesystem::path& out, const DisplayMapping& display,
+                                                   const ImageRgbaF& image) {
   std::vector<std::filesystem::path> written;
-  if (o.out.extension() == ".exr") {
-    writeExr(o.out, image, ExrPixelType::Float);  // float32: half overflows at 65,504
-    written.push_back(o.out);
+  if (out.extension() == ".exr") {
+    writeExr(out, image, ExrPixelType::Float);  // float32: half overflows at 65,504
+    written.push_back(out);
   }
-  std::filesystem::path png = o.out;
+  std::filesystem::path png = out;
   png.replace_extension(".png");
-  writePngTonemapped(png, image, o.display);
+  writePngTonemapped(png, image, display);
   written.push_back(png);
   return written;
+}
+
+ShadingInputs bakeFrameInputs(const GlInfo& gl, const std::vector<std::string>& defines, const ShadingParams& shading,
+                              const FittedFibers& fibers, const AppearanceOptions& appearance) {
+  return ShadingBakeGpu(gl, defines).bake({shading, &fibers.fit.preset, appearance, &fibers.params, &fibers.table});
+}
+
+ImageRgbaF drawShadedFrame(FiberRenderer& renderer, FiberGpu& gpu, FiberPath path, int width, int height,
+                           const std::string& who, FrameTimings* timings) {
+  renderer.draw(gpu, path, width, height, timings);
+  ImageRgbaF img = renderer.read();
+  if (const size_t bad = nonFiniteValues(img))
+    throw std::runtime_error(fmt::format("{}: {} non-finite pixel values; no image written", who, bad));
+  return img;
+}
+
+TraceResult traceFrame(const std::string& name, const YarnBuffers& buffers, const FiberSetup& fibers,
+                       const Camera& camera, bool lod, const ShadingParams& shading, const TraceSettings& settings,
+                       std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<FrameNormal> frames = computeKnotFramesCpu(buffers);
+  checkBeforeDrawing(name, buffers, frames);
+  const FiberInput input{&buffers, &fibers.table, fibers.params, makeViewParams(camera, 1.0f, lod, true)};
+  FiberTraceScene scene(generateFibersCpu(input, frames), fibers.params);
+  const double buildSeconds = secondsSince(t0);
+  log << fmt::format("{} fiber segments of {} fibers as Embree round curves, {:.1f} MiB, built in {:.1f} s\n",
+                     scene.segmentCount(), scene.fiberCount(), scene.bytes() / 1048576.0, buildSeconds);
+  const std::vector<glm::vec3> table = bakeShadingInputsCpu({shading, nullptr, AppearanceOptions::none()}).ambientTable;
+  TraceOptions t;
+  t.samplesPerPixel = settings.samplesPerPixel;
+  t.shadows = settings.shadows;
+  t.multipleScattering = settings.multipleScattering;
+  t.maxDepth = settings.maxDepth;
+  t.seed = settings.seed;
+  std::unique_ptr<EnvironmentSampler> environment;
+  if (settings.environmentMap) {
+    environment = std::make_unique<EnvironmentSampler>(readEnvironmentMap(*settings.environmentMap));
+    t.environment = environment.get();
+  }
+  // Progress on stderr, every 5 %, for renders that take a while.
+  std::mutex progressMutex;
+  int lastStep = -1;
+  t.progress = [&](double fraction) {
+    const std::lock_guard<std::mutex> lock(progressMutex);
+    const int step = static_cast<int>(fraction * 20.0);
+    if (step == lastStep) return;
+    lastStep = step;
+    std::cerr << fmt::format("\rtrace: {:3d}% ({:.0f} s)", step * 5, secondsSince(t0) - buildSeconds)
+              << (step == 20 ? "\n" : "") << std::flush;
+  };
+  const auto t1 = std::chrono::steady_clock::now();
+  TraceResult r = traceFibers(scene, camera, shading, table, t);
+  const double seconds = secondsSince(t1);
+  if (r.stats.nonFinite > 0)
+    throw std::runtime_error(fmt::format("the ground truth produced {} non-finite samples; no image written",
+                                         r.stats.nonFinite));
+  log << fmt::format("{} spp, {}{}, {:.3g} rays in {:.1f} s ({:.3g} rays/s, {} threads)\n", settings.samplesPerPixel,
+                     settings.shadows ? "shadows" : "no shadows",
+                     settings.multipleScattering ? ", multiple scattering" : "", double(r.stats.rays()), seconds,
+                     r.stats.rays() / std::max(seconds, 1e-9), tbb::this_task_arena::max_concurrency());
+  return r;
 }
 
 int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
@@ -108,16 +178,14 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                        v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * secondsSince(t0), g.renderer);
     return 0;
   }
-  renderer.setShading(ShadingBakeGpu(g, defines).bake({v.shading, &v.fibers.fit.preset, o.appearance, &v.fibers.params, &v.fibers.table}));
+  renderer.setShading(bakeFrameInputs(g, defines, v.shading, v.fibers, o.appearance));
   const double bakeSeconds = secondsSince(t0);
   renderer.setOcclusionCull(o.occlusionCull);
   FrameTimings cold, warm;
-  renderer.draw(gpu, path, w, h, o.profile ? &cold : nullptr);
-  if (o.profile) renderer.draw(gpu, path, w, h, &warm);  // the same frame again, everything built
-  const ImageRgbaF img = renderer.read();
+  if (o.profile) renderer.draw(gpu, path, w, h, &cold);  // then the same frame again, everything built
+  const ImageRgbaF img = drawShadedFrame(renderer, gpu, path, w, h, fmt::format("the {} path", o.path),
+                                         o.profile ? &warm : nullptr);
   const double seconds = secondsSince(t0);
-  if (const size_t bad = nonFiniteValues(img))
-    throw std::runtime_error(fmt::format("the {} path produced {} non-finite pixel values; no image written", o.path, bad));
   const auto files = writeImage(o.view, img);
   log << fmt::format("{}: {} yarn curves, {} segments, {} path, {:.0f} ms on {}\n", files.front().string(),
                      v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * seconds, g.renderer);
@@ -135,50 +203,10 @@ int runTraceCommand(const TraceCommandOptions& o, std::ostream& log) {
   log << fmt::format("yarn {} scaled {:.3f}x to yarn radius {:.4g} ({}); fabric {}, {} shading\n", v.preset.name,
                      v.fibers.fit.scale, v.fibers.fit.radius, v.fibers.fit.source, o.view.lighting.fabric,
                      o.view.lighting.model);
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<FrameNormal> frames = computeKnotFramesCpu(v.buffers);
-  checkBeforeDrawing(v.model.name, v.buffers, frames);
-  const FiberInput input{&v.buffers, &v.fibers.table, v.fibers.params, viewParamsOf(v)};
-  FiberTraceScene scene(generateFibersCpu(input, frames), v.fibers.params);
-  const double buildSeconds = secondsSince(t0);
-  log << fmt::format("{} fiber segments of {} fibers as Embree round curves, {:.1f} MiB, built in {:.1f} s\n",
-                     scene.segmentCount(), scene.fiberCount(), scene.bytes() / 1048576.0, buildSeconds);
-  const std::vector<glm::vec3> table = bakeShadingInputsCpu({v.shading, nullptr, AppearanceOptions::none()}).ambientTable;
-  TraceOptions t;
-  t.samplesPerPixel = o.samplesPerPixel;
-  t.shadows = o.shadows;
-  t.multipleScattering = o.multipleScattering;
-  t.maxDepth = o.maxDepth;
-  t.seed = o.seed;
-  std::unique_ptr<EnvironmentSampler> environment;
-  if (o.environmentMap) {
-    environment = std::make_unique<EnvironmentSampler>(readEnvironmentMap(*o.environmentMap));
-    t.environment = environment.get();
-  }
-  // Progress on stderr, every 5 %, for renders that take a while.
-  std::mutex progressMutex;
-  int lastStep = -1;
-  t.progress = [&](double fraction) {
-    const std::lock_guard<std::mutex> lock(progressMutex);
-    const int step = static_cast<int>(fraction * 20.0);
-    if (step == lastStep) return;
-    lastStep = step;
-    std::cerr << fmt::format("\rtrace: {:3d}% ({:.0f} s)", step * 5, secondsSince(t0) - buildSeconds)
-              << (step == 20 ? "\n" : "") << std::flush;
-  };
-  const auto t1 = std::chrono::steady_clock::now();
-  const TraceResult r = traceFibers(scene, v.camera, v.shading, table, t);
-  const double seconds = secondsSince(t1);
-  if (r.stats.nonFinite > 0)
-    throw std::runtime_error(fmt::format("the ground truth produced {} non-finite samples; no image written",
-                                         r.stats.nonFinite));
+  const TraceResult r = traceFrame(v.model.name, v.buffers, v.fibers, v.camera, v.lod, v.shading, o, log);
   const auto files = writeImage(o.view, r.image);
-  log << fmt::format("{}: {} spp, {}{}, {:.3g} rays in {:.1f} s ({:.3g} rays/s, {} threads)\n", files.front().string(),
-                     o.samplesPerPixel, o.shadows ? "shadows" : "no shadows",
-                     o.multipleScattering ? ", multiple scattering" : "", double(r.stats.rays()), seconds,
-                     r.stats.rays() / std::max(seconds, 1e-9), tbb::this_task_arena::max_concurrency());
+  log << fmt::format("wrote {}\n", files.front().string());
   return 0;
 }
 
 }  // namespace ft
-

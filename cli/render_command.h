@@ -8,9 +8,11 @@
 #include <optional>
 #include <string>
 
+#include "gpu/fiber_renderer.h"
 #include "gpu/gl_context.h"
 #include "image/image.h"
 #include "image/image_io.h"
+#include "reference/fiber_trace.h"
 #include "scene/camera.h"
 #include "scene/lighting.h"
 #include "scene/shading_inputs.h"
@@ -47,8 +49,8 @@ struct RenderCommandOptions {
   std::string inject;                          // planted fault (faults.def)
 };
 
-struct TraceCommandOptions {
-  ViewOptions view;
+// How the ground truth is traced (`trace`, and `knit --reference`).
+struct TraceSettings {
   int samplesPerPixel = 16;
   bool shadows = true;
   bool multipleScattering = false;
@@ -57,6 +59,10 @@ struct TraceCommandOptions {
   // --env FILE: the map lights the fibers in place of --ambient, sampled
   // directly (reference/environment_sampling.h), not through its SRBF fit.
   std::optional<std::filesystem::path> environmentMap;
+};
+
+struct TraceCommandOptions : TraceSettings {
+  ViewOptions view;
 };
 
 // A loaded view: model, fitted fibers, camera, shading.
@@ -74,6 +80,33 @@ ViewParams viewParamsOf(const PreparedView& view);
 
 // Writes `image` as options.out says; returns the files written.
 std::vector<std::filesystem::path> writeImage(const ViewOptions& options, const ImageRgbaF& image);
+
+// ---- The shaded frame, shared by `render` and `knit` (docs/shaded-frame.md) ----
+// The frame's inputs, baked on the GPU (ShadingBakeGpu::bake): they depend on
+// the lighting, the fabric, the fitted preset and its fiber table, not on the
+// yarn curves, so a sequence bakes them once. The yarn shadow map, which does
+// depend on the curves, is FiberRenderer::draw's: redrawn after every
+// FiberGpu::setModel.
+ShadingInputs bakeFrameInputs(const GlInfo& gl, const std::vector<std::string>& defines, const ShadingParams& shading,
+                              const FittedFibers& fibers, const AppearanceOptions& appearance);
+// Draws the shaded frame of the model and view `gpu` holds, with the inputs
+// set on `renderer`, and reads it back; std::runtime_error naming `who` when a
+// pixel value is not finite (no image is written then).
+ImageRgbaF drawShadedFrame(FiberRenderer& renderer, FiberGpu& gpu, FiberPath path, int width, int height,
+                           const std::string& who, FrameTimings* timings = nullptr);
+// `out` ending in .exr: the linear float EXR and a tone-mapped PNG beside it;
+// .png: the PNG only. Returns the files written.
+std::vector<std::filesystem::path> writeFrameImage(const std::filesystem::path& out, const DisplayMapping& display,
+                                                   const ImageRgbaF& image);
+// InputError naming `option` unless `out` ends in .exr or .png.
+void checkFrameImagePath(const std::filesystem::path& out, const char* option);
+// The ground truth of a frame (`trace`'s body, shared by `knit --reference`):
+// the CPU reference's fibers of `buffers` at `camera` (LoD as `lod` says) as
+// an Embree scene, traced; progress on stderr, the scene and the rays in
+// `log`. std::runtime_error for non-finite samples.
+TraceResult traceFrame(const std::string& name, const YarnBuffers& buffers, const FiberSetup& fibers,
+                       const Camera& camera, bool lod, const ShadingParams& shading, const TraceSettings& settings,
+                       std::ostream& log);
 
 // Both return the exit status and throw InputError for bad input.
 int runRenderCommand(const RenderCommandOptions& options, std::ostream& log);

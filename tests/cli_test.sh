@@ -293,6 +293,18 @@ printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 1 0\nf 1 2 3 4\n' > "$TMP/frame_flipped.o
 run_case "knit frames: NaN vertex" 2 "frame_nan.obj" -- knit --mesh "$TMP/rest.obj" --mesh "$TMP/frame_nan.obj" --no-image --out "$TMP/k.bcc"
 run_case "knit frames: topology differs" 2 "frame_topology.obj" -- knit --mesh "$TMP/rest.obj" --mesh "$TMP/frame_topology.obj" --no-image --out "$TMP/k.bcc"
 run_case "knit frames: flipped face" 2 "frame_flipped.obj" "face 0" -- knit --mesh "$TMP/rest.obj" --mesh "$TMP/frame_flipped.obj" --no-image --out "$TMP/k.bcc"
+# fibertwin knit's shaded frame and reference (docs/knit-rendering.md): bad values are refused before any GL work.
+KN=(knit --rows 2 --cols 2 --out "$TMP/k.bcc")
+run_case "knit --path nosuch" 2 "--path" "nosuch" -- "${KN[@]}" --path nosuch
+run_case "knit --image x.tif" 2 "--image" "x.tif" -- "${KN[@]}" --image "$TMP/x.tif"
+run_case "knit --preview --image x.jpg" 2 "--image" "x.jpg" -- "${KN[@]}" --preview --image "$TMP/x.jpg"
+run_case "knit --reference x.jpg" 2 "--reference" "x.jpg" -- "${KN[@]}" --no-image --reference "$TMP/x.jpg"
+run_case "knit --fabric nosuch" 2 "nosuch" -- "${KN[@]}" --fabric nosuch
+run_case "knit --light 0,0,0" 2 "--light" -- "${KN[@]}" --light 0,0,0
+run_case "knit --ambient -1" 2 "ambient" -- "${KN[@]}" --ambient -1
+run_case "knit --tonemap nosuch" 2 "--tonemap" "nosuch" -- "${KN[@]}" --tonemap nosuch
+run_case "knit --ao nosuch" 2 "--ao" "nosuch" -- "${KN[@]}" --ao nosuch
+run_case "knit --spp 0" 2 "--spp" -- "${KN[@]}" --spp 0
 rm -f "$TMP/k.bcc"
 
 # fibertwin compare (docs/flip.md): images that cannot be compared, and bad option values.

@@ -18,6 +18,7 @@
 #include "common/srbf_bcsdf.h"
 #include "common/srbf_lighting.h"
 #include "common/yarn_frame.h"
+#include "knit/knit_render.h"
 #include "reference/ds_correction.h"
 
 namespace ft {

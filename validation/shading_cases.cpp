@@ -36,6 +36,7 @@
 #include "scene/camera.h"
 #include "scene/lighting.h"
 #include "validation/bcsdf_oracle.h"
+#include "validation/direct_compare.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -258,20 +259,10 @@ constexpr size_t kMinPoolPixels = 40;
 
 double meanRgb(const float* px) { return (double(px[0]) + double(px[1]) + double(px[2])) / 3.0; }
 
-CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, const std::string& light, bool tessellation,
-                     const std::string& name) {
-  ShadedGpuImage start = startCase(ctx, fabric, light, tessellation, name);
-  CaseResult& r = start.result;
-  const GroundTruthInputs& in = *start.inputs;
-  const ShadingParams& s = start.shading;
-  const ImageRgbaF& gpu = start.image;
+}  // namespace
 
-  const auto t1 = Clock::now();
-  const DirectTruth& dt = directTruth(ctx, in, s, fabric + "/" + light);
-  const TraceResult& truth = dt.truth;
-  const TraceResult& truth16 = *dt.truth16;
-  r.cpuMilliseconds = msSince(t1);  // the first case of a (fabric, light) pays for the shared truth
-
+DirectComparison compareWithDirectTruth(CaseResult& r, const ImageRgbaF& gpu, const TraceResult& truth,
+                                        const TraceResult& truth16) {
   r.metrics.push_back(nonFiniteMetric("gpu", nonFinite(gpu), "shaded GPU pixel values"));
   r.metrics.push_back(nonFiniteMetric("cpu", truth.stats.nonFinite + truth16.stats.nonFinite + nonFinite(truth.image),
                                       "ground-truth samples and pixel values"));
@@ -353,6 +344,29 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, const st
     if (sums[p].pixels < kMinPoolPixels)
       r.metrics.push_back(Metric{fmt::format("{}.too_few", kPools[p].name), double(sums[p].pixels), 0.0, "pixels",
                                  "a pool every close-up holds is (nearly) empty"});
+  return DirectComparison{interior, covered, pools, flip};
+}
+
+namespace {
+
+CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, const std::string& light, bool tessellation,
+                     const std::string& name) {
+  ShadedGpuImage start = startCase(ctx, fabric, light, tessellation, name);
+  CaseResult& r = start.result;
+  const GroundTruthInputs& in = *start.inputs;
+  const ShadingParams& s = start.shading;
+  const ImageRgbaF& gpu = start.image;
+
+  const auto t1 = Clock::now();
+  const DirectTruth& dt = directTruth(ctx, in, s, fabric + "/" + light);
+  const TraceResult& truth = dt.truth;
+  const TraceResult& truth16 = *dt.truth16;
+  r.cpuMilliseconds = msSince(t1);  // the first case of a (fabric, light) pays for the shared truth
+
+  const DirectComparison c = compareWithDirectTruth(r, gpu, truth, truth16);
+  const FlipResult& flip = c.flip;
+  const size_t interior = c.interior, covered = c.covered;
+  const std::string& pools = c.pools;
   if (ctx.options().images) {
     r.images.push_back(ctx.saveImage(toRgba(gpu), name + "-gpu"));
     r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
