@@ -45,6 +45,8 @@ inline bool ftFaultShadingCosDropped = false;
 // is bound, whose Ψ_G^Fiber replaces the self-shadow T (docs/shaded-frame.md).
 #define FT_APPEARANCE_DUAL_SCATTERING 32u
 #define FT_APPEARANCE_DS_CORRECTION 64u
+// 001 §4.4: the flyaway textures drawn in the frame's third pass (common/flyaway.h, docs/flyaways.md).
+#define FT_APPEARANCE_FLYAWAYS 128u
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 // Texels per lobe of the lobe-normalisation table Z_p(|θ_i|) (bcsdf.h).

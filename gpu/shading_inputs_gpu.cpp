@@ -56,6 +56,12 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
     if (!ds_) ds_ = std::make_unique<DualScatteringGpu>(gl_, defines_);
     in.dsTable = ds_->bakeTable(request.params.fabric).rows;
   }
+  if (request.appearance.flyaways) {  // 001 §4.4 (common/flyaway.h)
+    if (!flyaway_) flyaway_ = std::make_unique<FlyawayGpu>(gl_, defines_);
+    in.flyaway = frameFlyawayParams(request, "ShadingBakeGpu");
+    in.flyawayTexels = flyaway_->bake(flyaway_->generate(in.flyaway)).texels;
+    in.params.flags.w |= FT_APPEARANCE_FLYAWAYS;
+  }
   checkShadingInputs(in);
   return in;
 }

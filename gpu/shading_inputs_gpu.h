@@ -12,6 +12,7 @@
 #include "gpu/bcsdf_gpu.h"
 #include "gpu/core_texture_gpu.h"
 #include "gpu/dual_scattering_gpu.h"
+#include "gpu/flyaway_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/self_shadow_gpu.h"
 #include "scene/shading_inputs.h"
@@ -33,6 +34,7 @@ class ShadingBakeGpu {
   const GlInfo& gl_;
   std::vector<std::string> defines_;
   std::unique_ptr<DualScatteringGpu> ds_;
+  std::unique_ptr<FlyawayGpu> flyaway_;  // built on the first frame with flyaways
 };
 
 }  // namespace ft

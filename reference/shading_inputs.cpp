@@ -7,6 +7,7 @@
 #include "reference/bcsdf_tables.h"
 #include "reference/core_texture.h"
 #include "reference/dual_scattering.h"
+#include "reference/flyaway.h"
 #include "reference/self_shadow.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
@@ -54,6 +55,11 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
   // the ξ textures of the bake file scaled to the model, or identity.
   frameDsCorrection(in, request.fittedPreset, request.appearance);
   if ((in.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u) in.dsTable = bakeDualScatteringCpu(request.params.fabric).rows;
+  if (request.appearance.flyaways) {  // 001 §4.4 (common/flyaway.h)
+    in.flyaway = frameFlyawayParams(request, "bakeShadingInputsCpu");
+    in.flyawayTexels = bakeFlyawaysCpu(generateFlyawaysCpu(in.flyaway)).texels;
+    in.params.flags.w |= FT_APPEARANCE_FLYAWAYS;
+  }
   checkShadingInputs(in);
   return in;
 }

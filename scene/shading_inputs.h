@@ -23,6 +23,7 @@
 #include "common/yarn_density.h"
 #include "scene/ambient_occlusion_setup.h"
 #include "scene/core_texture_input.h"
+#include "scene/flyaway_input.h"
 
 namespace ft {
 
@@ -59,6 +60,12 @@ struct AppearanceOptions {
   // implies dualScattering (render --ds-correction FILE). docs/shaded-frame.md.
   bool dualScattering = false;
   std::optional<std::filesystem::path> dsCorrectionFile;
+  // 001 §4.4: flyaway fibers (eq. 12–13) baked into three seamless textures
+  // and drawn in the frame's third pass (common/flyaway.h, docs/flyaways.md).
+  // Off by default: every existing picture stays bit-identical, and the
+  // Embree ground truth has no flyaways to compare with.
+  bool flyaways = false;
+  FlyawaySettings flyawaySettings{};
 
   static AppearanceOptions none() {
     AppearanceOptions o;
@@ -110,6 +117,11 @@ struct ShadingInputs {
   std::vector<glm::vec4> dsTable;
   DsCorrectionLayout dsCorrection{};
   std::vector<glm::vec4> xiM, xiN, psiM, psiN;
+  // ---- flyaways (001 §4.4; FT_APPEARANCE_FLYAWAYS) ----
+  // The block and the three RGBA8 layers of pattern 0 (each side's own
+  // curves and bake); empty when off.
+  FlyawayParams flyaway{};
+  std::vector<uint32_t> flyawayTexels;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -145,6 +157,10 @@ void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const A
 // `preset` / params.fabric: refused), its layout scaled to the model (P' =
 // preset.yarnAlpha, W' = W P'/P), or identity textures without a file.
 void frameDsCorrection(ShadingInputs& in, const struct YarnPreset* preset, const AppearanceOptions& options);
+
+// The flyaway block of a request (AppearanceOptions::flyawaySettings, the
+// fitted preset and its YarnParams); InputError naming the preset and value.
+FlyawayParams frameFlyawayParams(const ShadingBakeRequest& request, const char* who);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

@@ -18,6 +18,8 @@
 #include "common/srbf_bcsdf.h"
 #include "common/yarn_frame.h"
 #include "reference/ds_correction.h"
+#include "common/flyaway.h"
+#include "reference/flyaway.h"
 
 namespace ft {
 
@@ -69,6 +71,9 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
   if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
   if (define == "FT_FAULT_FRAME_DS_UNSCALED") ftFaultFrameDsUnscaled = on;
+  if (define == "FT_FAULT_FLYAWAY_EQ13_NO_ONE_MINUS") ftFaultFlyawayEq13NoOneMinus = on;
+  if (define == "FT_FAULT_FLYAWAY_NO_WRAP") ftFaultFlyawayNoWrap = on;
+  if (define == "FT_FAULT_FLYAWAY_CPU_V_FLIP") ftFaultFlyawayCpuVFlip = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
