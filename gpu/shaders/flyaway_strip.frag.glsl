@@ -1,6 +1,6 @@
 // The flyaway pass's fragment stage (flyaway_strip.vert.glsl): the layer of
 // this period of the yarn (ftFlyawayLayer, constant over a period), the
-// nearest texel; alpha < ½ is no flyaway (discarded); otherwise the stored
+// coverage interpolated bilinearly; below ¼ no flyaway (discarded); otherwise the stored
 // tangent, taken from the strip frame (u along the yarn, v across, w toward
 // the eye) to world space, shaded with the frame's BCSDF and ambient table
 // (common/fiber_shading.h) like a regular fiber, without self-shadow, AO or
@@ -35,10 +35,32 @@ void main() {
   float u = flySV.x / fly.period;
   float n = floor(u);
   uint layer = ftFlyawayLayer(flyCurve, int(n), fly.seed);
-  uint i = min(uint(max(u - n, 0.0) * float(fly.width)), fly.width - 1u);
-  uint j = uint(clamp((0.5 * flySV.y + 0.5) * float(fly.height), 0.0, float(fly.height - 1u)));
-  vec4 texel = unpackUnorm4x8(flyTexels[(layer * fly.height + j) * fly.width + i]);
-  if (texel.w < 0.5) discard;
+  // Coverage interpolated bilinearly and cut at ¼ (a line's outline instead
+  // of whole texels: no staircase when a texel spans pixels; ¼, not ½, because
+  // a line the bake drew half a texel wide may sit on alternate rows of
+  // adjacent columns, where the interpolated coverage falls to ½), the tangent of
+  // the covered texel with the largest weight. Along u the texel past the last
+  // column is column 0 of the same layer: the first and last columns are the
+  // boundary set's in every layer (common/flyaway.h), so this is the next
+  // period's texel whichever layer that period draws.
+  float x = max(u - n, 0.0) * float(fly.width) - 0.5, y = (0.5 * flySV.y + 0.5) * float(fly.height) - 0.5;
+  float fx = x - floor(x), fy = y - floor(y);
+  int i0 = int(floor(x)), j0 = int(floor(y));
+  float coverage = 0.0, bestWeight = -1.0;
+  vec4 texel = vec4(0.0);
+  for (int k = 0; k < 4; ++k) {
+    int i = i0 + (k & 1), j = j0 + (k >> 1);
+    i = (i + int(fly.width)) % int(fly.width);
+    j = clamp(j, 0, int(fly.height) - 1);
+    vec4 t = unpackUnorm4x8(flyTexels[(layer * fly.height + uint(j)) * fly.width + uint(i)]);
+    float w = ((k & 1) != 0 ? fx : 1.0 - fx) * ((k >> 1) != 0 ? fy : 1.0 - fy);
+    coverage += w * t.w;
+    if (t.w >= 0.5 && w > bestWeight) {
+      bestWeight = w;
+      texel = t;
+    }
+  }
+  if (coverage < 0.25 || texel.w < 0.5) discard;
   vec3 toEye = normalize(view.cameraPos.xyz - flyWorld);
   vec3 w = toEye - flyAxis * dot(toEye, flyAxis);
   w = dot(w, w) > 1e-12 ? normalize(w) : toEye;
