@@ -28,12 +28,12 @@ FlyawayParams makeFlyawayParams(const YarnPreset& fitted, const YarnParams& p, c
     return InputError(fmt::format("flyaways for yarn preset {}: {}", fitted.name, what));
   };
   if (s.width < 2 || s.height < 2 || s.width > 8192 || s.height > 8192)
-    throw bad(fmt::format("texture size {}×{} (each 2 … 8192)", s.width, s.height));
+    throw bad(fmt::format("texture size {}×{} (--flyaway-size: each side 2 … 8192)", s.width, s.height));
   if (s.patterns < 1 || s.patterns > 4096) throw bad(fmt::format("{} patterns (1 … 4096)", s.patterns));
-  if (!(s.alpha > 0.0f) || !std::isfinite(s.alpha)) throw bad(fmt::format("α = {} (must be > 0)", s.alpha));
-  if (!(s.noise >= 0.0f) || !(s.noise <= 1.0f)) throw bad(fmt::format("noise σ_n = {} (0 … 1)", s.noise));
+  if (!(s.alpha > 0.0f) || !std::isfinite(s.alpha)) throw bad(fmt::format("α = {} (--flyaway-alpha: must be > 0)", s.alpha));
+  if (!(s.noise >= 0.0f) || !(s.noise <= 1.0f)) throw bad(fmt::format("noise σ_n = {} (--flyaway-noise: 0 … 1)", s.noise));
   if (!(s.lengthScale > 0.0f) || !std::isfinite(s.lengthScale))
-    throw bad(fmt::format("length scale {} (must be > 0)", s.lengthScale));
+    throw bad(fmt::format("length scale {} (--flyaway-length: must be > 0)", s.lengthScale));
   const double density = double(p.plyCount) * fitted.hairDensity;  // [F] Zhao's density is per ply
   if (!(density >= 0.0) || !std::isfinite(density)) throw bad(fmt::format("hair density {}", fitted.hairDensity));
 
@@ -62,7 +62,7 @@ FlyawayParams makeFlyawayParams(const YarnPreset& fitted, const YarnParams& p, c
   if (!(twist > 0.0) || !std::isfinite(twist)) throw bad(fmt::format("ply twist length {}", twist));
   double period = twist;
   for (int k = 2; k <= 64 && period < 2.5 * f.zReach; ++k) period = k * twist;
-  if (period < 2.5 * f.zReach) throw bad(fmt::format("flyaway reach {} along the yarn is too long for a texture", f.zReach));
+  if (period < 2.5 * f.zReach) throw bad(fmt::format("flyaway reach {} along the yarn (z_e scaled by --flyaway-length {}) is longer than 64 ply twists allow", f.zReach, s.lengthScale));
   f.period = float(period);
   const double du = period / s.width, dv = 2.0 * f.halfWidth / s.height;
   f.lineHalfWidth = float(std::max<double>(p.fiberRadius, 0.5 * std::max(du, dv)));  // ≥ one texel wide [F]
