@@ -7,6 +7,7 @@
 // procedural environment map of the SRBF fit (`env-sky`).
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fmt/format.h>
@@ -243,6 +244,7 @@ void addTraceSettings(CLI::App* app, ft::TraceSettings& t) {
 struct AppearanceOptionText {
   std::string ao = "fit", dsCorrection;
   std::string env, envTable;  // --env FILE, --env-table N_θo,N_θj,N_Δφ,N_λ
+  float flyawayLength = 1.0f;
 };
 void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOptionText& text) {
   app->add_flag("!--no-self-shadow", a.selfShadow,
@@ -271,9 +273,25 @@ void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOpt
                   "docs/srbf.md), fitted with 16 SRBFs + a constant; it replaces --ambient, lights still add");
   app->add_option("--env-table", text.envTable,
                   "with --env: the I_M table's size N_θo,N_θj,N_Δφ,N_λ (default 16,16,8,8; each in [2, 64])");
+  app->add_flag("--flyaways", a.flyaways,
+                "flyaway fibers of 001 §4.4 (eq. 12-13): three seamless baked textures drawn in a third pass "
+                "(docs/flyaways.md)");
+  app->add_option("--flyaway-alpha", a.flyawaySettings.alpha, "eq. 13's curvature exponent α (default 1: eq. 12)");
+  app->add_option("--flyaway-noise", a.flyawaySettings.noise,
+                  "random walk on the flyaways' steps, σ_n as a fraction of a step (default 0.1)");
+  app->add_option("--flyaway-length", text.flyawayLength,
+                  "scales z_e and R_e (001 Fig. 15's extended flyaways: 3; default 1)");
+  app->add_option("--flyaway-size", a.flyawaySettings.width, "flyaway texels along one period (default 512; height: a quarter)");
 }
 void finishAppearanceOptions(ft::AppearanceOptions& a, const AppearanceOptionText& text) {
   a.ao = ft::parseAoMode(text.ao);
+  a.flyawaySettings.lengthScale = text.flyawayLength;
+  a.flyawaySettings.height = std::max<uint32_t>(2u, a.flyawaySettings.width / 4u);
+  const bool flyawayTuned = a.flyawaySettings.alpha != ft::FlyawaySettings{}.alpha ||
+                            a.flyawaySettings.noise != ft::FlyawaySettings{}.noise || text.flyawayLength != 1.0f ||
+                            a.flyawaySettings.width != ft::FlyawaySettings{}.width;
+  if (flyawayTuned && !a.flyaways)
+    throw ft::InputError("--flyaway-alpha, --flyaway-noise, --flyaway-length and --flyaway-size need --flyaways");
   if (!text.dsCorrection.empty()) {
     a.dsCorrectionFile = text.dsCorrection;
     a.dualScattering = true;

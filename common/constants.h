@@ -115,6 +115,15 @@
 #define FT_SSBO_SRBF_OUTPUT 55       // vec4 results of lookups
 #define FT_WG_SRBF 64
 
+// Flyaway fibers (common/flyaway.h, 001 §4.4 eq. 12–13; docs/flyaways.md):
+// UBO 16 and SSBO 65–69 are this group's.
+#define FT_UBO_FLYAWAY 16              // FlyawayParams (the bake's; the frame binds its own copy here too)
+#define FT_SSBO_FLYAWAY_POINTS 65      // vec4[slots][FT_FLYAWAY_POINTS]: xyz, w = t
+#define FT_SSBO_FLYAWAY_HEADERS 66     // vec4 per slot: (present, kept, zMin, zMax)
+#define FT_SSBO_FLYAWAY_TEXELS 67      // uint[3][H][W]: RGBA8 (packUnorm4x8), 0 = empty
+#define FT_SSBO_FLYAWAY_FRAME 68       // uint[3][H][W]: the frame's copy of the texels (fiber_strip.frag.glsl)
+#define FT_WG_FLYAWAY 64
+
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u

@@ -48,6 +48,8 @@ inline bool ftFaultShadingCosDropped = false;
 // 001 §4.5 eq. 14–16 SRBF environment lighting (common/srbf_lighting.h): the
 // fitted environment replaces the uniform ambient.
 #define FT_APPEARANCE_ENVIRONMENT 128u
+// 001 §4.4: the flyaway textures drawn in the frame's third pass (common/flyaway.h, docs/flyaways.md).
+#define FT_APPEARANCE_FLYAWAYS 256u
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 // Texels per lobe of the lobe-normalisation table Z_p(|θ_i|) (bcsdf.h).

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "common/flyaway.h"
 #include "gpu/compute_dispatch.h"
 #include "gpu/shader_library.h"
 
@@ -66,7 +67,9 @@ struct MultisampleTarget {
 FiberRenderer::FiberRenderer(const GlInfo&, std::vector<std::string> defines)
     : defines_(std::move(defines)),
       // Planted fault (validation/faults.def) of the renderer's own C++: the map kept across setModel.
-      faultShadowMapStale_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_SHADOW_MAP_STALE") != defines_.end()) {}
+      faultShadowMapStale_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_SHADOW_MAP_STALE") != defines_.end()),
+      faultFlyawayNoDepthTest_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_FRAME_FLYAWAY_NO_DEPTH_TEST") !=
+                               defines_.end()) {}
 
 FiberRenderer::~FiberRenderer() = default;
 
@@ -139,6 +142,29 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   srbfTexels.reserve(inputs.srbfTable.size());
   for (const glm::vec3& v : inputs.srbfTable) srbfTexels.emplace_back(v, 0.0f);
   srbfTable_ = makeBuffer(srbfTexels.size() * sizeof(glm::vec4), srbfTexels.data());
+  // Flyaways (001 §4.4): the block and the three layers; 16 bytes when off.
+  flyawayUbo_ = makeBuffer(sizeof(FlyawayParams), &inputs.flyaway);
+  flyawayTexels_ = makeBuffer(inputs.flyawayTexels.size() * sizeof(uint32_t), inputs.flyawayTexels.data());
+}
+
+// ---- Flyaways: the third pass (001 §4.4, §5.2; flyaway_strip.*.glsl) ----
+
+void FiberRenderer::drawFlyaways(FiberGpu& fibers) {
+  if (!flyawayProgram_)
+    flyawayProgram_ = Program(buildProgram({"shaders/flyaway_strip.vert.glsl", "shaders/flyaway_strip.frag.glsl"}, defines_));
+  if (!flyawayVao_) flyawayVao_ = VertexArray::create();
+  // Into the shaded target, after the regular fibers: depth-tested against
+  // them (LESS, as they were drawn) and writing depth among the flyaways.
+  glUseProgram(flyawayProgram_.id());
+  fibers.bindYarn();
+  bindShading();
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_FLYAWAY, flyawayUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_FLYAWAY_FRAME, flyawayTexels_.id());
+  glBindVertexArray(flyawayVao_.id());
+  if (faultFlyawayNoDepthTest_) glDisable(GL_DEPTH_TEST);  // planted (faults.def): drawn over nearer fibers
+  glDrawArrays(GL_TRIANGLES, 0, GLsizei(fibers.segmentCount() * FT_FLYAWAY_PIECES * 6));
+  glEnable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
 }
 
 // ---- Yarn shadow map (000 §4.1 last paragraph; common/shadow_map.h) ----
@@ -365,6 +391,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   bindShading();
   setUniform(prog, "shaded", 1u);
   fibers.draw(path, prog);
+  if ((inputs_.params.flags.w & FT_APPEARANCE_FLYAWAYS) != 0u) drawFlyaways(fibers);  // the third pass
   shadedTarget_->finish();
   if (timings) phase(timings->shadeMs);
 }

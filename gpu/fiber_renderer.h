@@ -139,6 +139,11 @@ class FiberRenderer {
   Buffer dsTable_, xiUbo_, xiM_, xiN_, psiM_, psiN_;
   // SRBF environment lighting (001 §4.5): the fit + table dimensions, the I_M table.
   Buffer srbfUbo_, srbfTable_;
+  // Flyaways (001 §4.4): the third pass's program, block and texels (docs/flyaways.md).
+  void drawFlyaways(FiberGpu& fibers);
+  Program flyawayProgram_;
+  VertexArray flyawayVao_;
+  Buffer flyawayUbo_, flyawayTexels_;
   // Yarn shadow map: depth pass program, target, and the depth copied to an SSBO for the frame.
   Program shadowProgram_;
   Texture shadowDepth_;
@@ -150,6 +155,7 @@ class FiberRenderer {
   // setShading count; 0: none.
   uint64_t shadowModel_ = 0, shadowInputs_ = 0, inputsVersion_ = 0;
   bool faultShadowMapStale_ = false;
+  bool faultFlyawayNoDepthTest_ = false;  // planted: the flyaway pass without the depth test
   uint32_t shadowSize_ = 0, shadowLayers_ = 0;
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames

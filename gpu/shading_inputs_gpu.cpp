@@ -74,6 +74,12 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
     in.srbfTable = srbfTable_->bake(request.params.fabric, in.srbfTableDims);
     in.params.flags.w |= FT_APPEARANCE_ENVIRONMENT;
   }
+  if (request.appearance.flyaways) {  // 001 §4.4 (common/flyaway.h)
+    if (!flyaway_) flyaway_ = std::make_unique<FlyawayGpu>(gl_, defines_);
+    in.flyaway = frameFlyawayParams(request, "ShadingBakeGpu");
+    in.flyawayTexels = flyaway_->bake(flyaway_->generate(in.flyaway)).texels;
+    in.params.flags.w |= FT_APPEARANCE_FLYAWAYS;
+  }
   checkShadingInputs(in);
   return in;
 }

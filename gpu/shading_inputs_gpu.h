@@ -12,6 +12,7 @@
 #include "gpu/bcsdf_gpu.h"
 #include "gpu/core_texture_gpu.h"
 #include "gpu/dual_scattering_gpu.h"
+#include "gpu/flyaway_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/self_shadow_gpu.h"
 #include "gpu/srbf_fit_gpu.h"
@@ -37,6 +38,7 @@ class ShadingBakeGpu {
   std::unique_ptr<DualScatteringGpu> ds_;
   std::unique_ptr<SrbfFitGpu> srbfFit_;  // SRBF environment (001 §4.5), built on first use
   std::unique_ptr<SrbfTableGpu> srbfTable_;
+  std::unique_ptr<FlyawayGpu> flyaway_;  // built on the first frame with flyaways
 };
 
 }  // namespace ft

@@ -7,6 +7,7 @@
 #include "reference/bcsdf_tables.h"
 #include "reference/core_texture.h"
 #include "reference/dual_scattering.h"
+#include "reference/flyaway.h"
 #include "reference/self_shadow.h"
 #include "reference/srbf_fit.h"
 #include "reference/srbf_table.h"
@@ -63,6 +64,11 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     in.srbfTableDims = request.appearance.environmentTableDims;
     in.srbfTable = bakeSrbfTableCpu(request.params.fabric, in.srbfTableDims).asFloat();
     in.params.flags.w |= FT_APPEARANCE_ENVIRONMENT;
+  }
+  if (request.appearance.flyaways) {  // 001 §4.4 (common/flyaway.h)
+    in.flyaway = frameFlyawayParams(request, "bakeShadingInputsCpu");
+    in.flyawayTexels = bakeFlyawaysCpu(generateFlyawaysCpu(in.flyaway)).texels;
+    in.params.flags.w |= FT_APPEARANCE_FLYAWAYS;
   }
   checkShadingInputs(in);
   return in;

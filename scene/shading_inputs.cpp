@@ -136,6 +136,15 @@ void checkShadingInputs(const ShadingInputs& inputs) {
     if (!std::isfinite(inputs.selfShadowTexels[k]))
       throw std::invalid_argument(
           fmt::format("shading inputs: self-shadow texel {} is {}", k, inputs.selfShadowTexels[k]));
+  if ((inputs.params.flags.w & FT_APPEARANCE_FLYAWAYS) != 0u) {
+    const FlyawayParams& f = inputs.flyaway;
+    const size_t want = size_t(f.width) * f.height * FT_FLYAWAY_LAYERS;
+    if (f.width == 0 || f.height == 0 || inputs.flyawayTexels.size() != want || !(f.period > 0.0f) ||
+        !(f.halfWidth > 0.0f) || !std::isfinite(f.period) || !std::isfinite(f.halfWidth) || !std::isfinite(f.bodyRadius))
+      throw std::invalid_argument(fmt::format("shading inputs: flyaway textures hold {} texels, their layout {}×{}×3, "
+                                              "P {}, W_fly {}",
+                                              inputs.flyawayTexels.size(), f.width, f.height, f.period, f.halfWidth));
+  }
   const bool core = (inputs.params.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u;
   const size_t coreTexels = size_t(inputs.coreTexture.columns) * inputs.coreTexture.height;
   if (core && (coreTexels == 0 || inputs.coreTexture.columns != inputs.coreTexture.width ||
@@ -233,6 +242,12 @@ CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& r, const char* 
   if (ftCoreFiberCount(*r.yarnParams) == 0) return {};  // every fiber explicit: nothing to texture
   return makeCoreTextureInput(*r.yarnParams, *r.fiberTable, r.appearance.coreTextureWidth,
                               r.appearance.coreTextureHeight);
+}
+
+FlyawayParams frameFlyawayParams(const ShadingBakeRequest& r, const char* who) {
+  if (!r.fittedPreset || !r.yarnParams)
+    throw std::invalid_argument(fmt::format("{}: flyaways need the fitted yarn preset and its yarn parameters", who));
+  return makeFlyawayParams(*r.fittedPreset, *r.yarnParams, r.appearance.flyawaySettings);
 }
 
 }  // namespace ft

@@ -26,6 +26,7 @@
 #include "scene/ambient_occlusion_setup.h"
 #include "scene/core_texture_input.h"
 #include "image/image.h"
+#include "scene/flyaway_input.h"
 
 namespace ft {
 
@@ -71,6 +72,12 @@ struct AppearanceOptions {
   std::optional<std::filesystem::path> environmentMap;
   std::shared_ptr<const ImageRgbaF> environmentImage;
   glm::ivec4 environmentTableDims{16, 16, 8, 8};
+  // 001 §4.4: flyaway fibers (eq. 12–13) baked into three seamless textures
+  // and drawn in the frame's third pass (common/flyaway.h, docs/flyaways.md).
+  // Off by default: every existing picture stays bit-identical, and the
+  // Embree ground truth has no flyaways to compare with.
+  bool flyaways = false;
+  FlyawaySettings flyawaySettings{};
 
   static AppearanceOptions none() {
     AppearanceOptions o;
@@ -129,6 +136,11 @@ struct ShadingInputs {
   SrbfEnvironment environment{};
   glm::ivec4 srbfTableDims{0};
   std::vector<glm::vec3> srbfTable;
+  // ---- flyaways (001 §4.4; FT_APPEARANCE_FLYAWAYS) ----
+  // The block and the three RGBA8 layers of pattern 0 (each side's own
+  // curves and bake); empty when off.
+  FlyawayParams flyaway{};
+  std::vector<uint32_t> flyawayTexels;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -170,6 +182,9 @@ void frameDsCorrection(ShadingInputs& in, const struct YarnPreset* preset, const
 // InputError naming --env (the file, the pixel) or --env-table (a size
 // outside [2, 64]).
 std::optional<ImageRgbaF> frameEnvironmentMap(const AppearanceOptions& options);
+// The flyaway block of a request (AppearanceOptions::flyawaySettings, the
+// fitted preset and its YarnParams); InputError naming the preset and value.
+FlyawayParams frameFlyawayParams(const ShadingBakeRequest& request, const char* who);
 
 // Throws std::invalid_argument naming the input when a table has the wrong
 // size or a non-finite value (a bake that went wrong must not be drawn).

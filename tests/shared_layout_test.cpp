@@ -16,6 +16,7 @@
 #include "common/core_texture.h"
 #include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
+#include "common/flyaway.h"
 #include "common/knit_stitch.h"
 #include "common/occlusion_cull.h"
 #include "common/shadow_map.h"
@@ -79,6 +80,10 @@ namespace {
    X(lobes[8].axisLambda) X(lobes[8].weight) X(lobes[9].axisLambda) X(lobes[9].weight) X(lobes[10].axisLambda) X(lobes[10].weight) X(lobes[11].axisLambda) X(lobes[11].weight) \
    X(lobes[12].axisLambda) X(lobes[12].weight) X(lobes[13].axisLambda) X(lobes[13].weight) X(lobes[14].axisLambda) X(lobes[14].weight) X(lobes[15].axisLambda) X(lobes[15].weight) \
   X(constant)
+#define FT_FLYAWAY_PARAMS_MEMBERS(X) \
+  X(width) X(height) X(maxPerSet) X(patterns) X(period) X(halfWidth) X(bodyRadius) X(lineHalfWidth) X(zeMu) X(zeSigma) \
+  X(r0Mu) X(r0Sigma) X(reMu) X(reSigma) X(peMu) X(peSigma) X(rootOffset) X(alpha) X(noise) X(zReach) \
+  X(margin) X(poissonThresholdB) X(poissonThresholdI) X(chunksB) X(chunksI) X(seed) X(pad0) X(pad1)
 // clang-format on
 
 struct Member {
@@ -137,6 +142,7 @@ std::vector<StructCase> structCases() {
                       FT_UBO_SHADOW_MAP),
       FT_UNIFORM_CASE(OcclusionPyramid, FT_OCCLUSION_PYRAMID_MEMBERS, "OcclusionBlock", "pyramid", FT_UBO_OCCLUSION),
       FT_UNIFORM_CASE(SrbfEnvironment, FT_SRBF_ENVIRONMENT_MEMBERS, "SrbfBlock", "srbf", FT_UBO_SRBF),
+      FT_UNIFORM_CASE(FlyawayParams, FT_FLYAWAY_PARAMS_MEMBERS, "FlyawayBlock", "fly", FT_UBO_FLYAWAY),
   };
 }
 

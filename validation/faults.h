@@ -20,6 +20,8 @@
 #include "common/yarn_frame.h"
 #include "knit/knit_render.h"
 #include "reference/ds_correction.h"
+#include "common/flyaway.h"
+#include "reference/flyaway.h"
 
 namespace ft {
 

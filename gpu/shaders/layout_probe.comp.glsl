@@ -15,6 +15,7 @@
 #include "common/shadow_map.h"
 #include "common/occlusion_cull.h"
 #include "common/srbf.h"
+#include "common/flyaway.h"
 
 layout(local_size_x = 1) in;
 
@@ -47,6 +48,7 @@ layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionP
 layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMapParams; };
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; };
+layout(std140, binding = FT_UBO_FLYAWAY) uniform FlyawayBlock { FlyawayParams fly; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -76,4 +78,10 @@ void main() {
   float srbfSum = srbf.constant.x;  // every lobe member read, so each is an active resource
   for (int j = 0; j < FT_SRBF_LOBES; ++j) srbfSum += srbf.lobes[j].axisLambda.x + srbf.lobes[j].weight.x;
   if (srbfSum == -12345.0) aoCopy.seed = ao.seed;
+  // Flyaways: every member read, so each is an active resource.
+  float flySum = fly.period + fly.halfWidth + fly.bodyRadius + fly.lineHalfWidth + fly.zeMu + fly.zeSigma +
+                 fly.r0Mu + fly.r0Sigma + fly.reMu + fly.reSigma + fly.peMu + fly.peSigma + fly.rootOffset +
+                 fly.alpha + fly.noise + fly.zReach + fly.margin + fly.poissonThresholdB + fly.poissonThresholdI;
+  uint flyBits = fly.width ^ fly.height ^ fly.maxPerSet ^ fly.patterns ^ fly.chunksB ^ fly.chunksI ^ fly.seed ^ fly.pad0 ^ fly.pad1;
+  if (flySum == -12345.0 && flyBits == 0x12345u) aoCopy.seed = ao.seed;
 }
