@@ -111,6 +111,19 @@
 #define FT_SSBO_SRBF_OUTPUT 55       // vec4 results of lookups
 #define FT_WG_SRBF 64
 
+// Segment visibility functions of 004 §4.1 (common/segment_visibility.h,
+// gpu/segment_visibility_gpu.h): UBO 18–19 and SSBO 74–85 are this group's.
+#define FT_UBO_SVF 18                // SvfParams
+#define FT_SSBO_SVF_IMAGES 74        // uint[images][W·H]: the binary visibility images (1 = visible)
+#define FT_SSBO_SVF_SSDF 75          // float[images][W·H]: the SSDF (radians, + visible)
+#define FT_SSBO_SVF_NEAREST 76       // int[images][W·H/2]: nearest axis of each z > 0 pixel
+#define FT_SSBO_SVF_WEIGHTS 77       // float[images][Q]: the SG weights w_k,q
+#define FT_SSBO_SVF_PCA_MEAN 78      // float[W·H]: the PCA mean SSDF
+#define FT_SSBO_SVF_PCA_BASIS 79     // float[C][W·H]: the principal directions
+#define FT_SSBO_SVF_PCA_COEFS 80     // float[images][C]: each image's coefficients
+#define FT_SSBO_SVF_DECODE 81        // vec2[images][W·H]: (PCA-reconstructed SSDF, V^ssg)
+#define FT_WG_SVF 64
+
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u

@@ -12,12 +12,14 @@
 #include "common/dual_scattering.h"
 #include "common/fiber_shading.h"
 #include "common/lod.h"
+#include "common/segment_visibility.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
 #include "common/srbf_bcsdf.h"
 #include "common/yarn_frame.h"
 #include "reference/ds_correction.h"
+#include "reference/segment_visibility.h"
 
 namespace ft {
 
@@ -69,6 +71,9 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
   if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
   if (define == "FT_FAULT_FRAME_DS_UNSCALED") ftFaultFrameDsUnscaled = on;
+  if (define == "FT_FAULT_SVF_FIB_AXES_FULL_SPHERE") ftFaultSvfFibAxesFullSphere = on;
+  if (define == "FT_FAULT_SVF_SSDF_PIXEL_DISTANCE") ftFaultSvfSsdfPixelDistance = on;
+  if (define == "FT_FAULT_SVF_OWN_FIBER_OCCLUDES") ftFaultSvfOwnFiberOccludes = on;
 }
 
 inline const Fault* findFault(std::string_view name) {
