@@ -390,6 +390,46 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
     rms.push_back(std::sqrt(e2 / double(rows * size_t(P))));
     if (rms.size() > 1 && rms.back() > rms[rms.size() - 2] * (1.0 + 1e-9)) ++increases;
   }
+  // A picture like 004 Fig. 4 of the most occluded segment: (a) the binary
+  // image, (b) the PCA-compressed SSDF (yellow +, blue −), (c) its sign, (d)
+  // the sum of SGs; all from the GPU's decode but (a). Mercator-like: φ across, θ down.
+  if (ctx.options().images && n > 0) {
+    size_t pick = 0, most = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const size_t occ = size_t(std::count(cpu[i].image.begin(), cpu[i].image.end(), uint8_t(0)));
+      if (occ > most) most = occ, pick = i;
+    }
+    const int scale = 4, gap = 4, pw = kW * scale, ph = kH * scale;
+    RgbaImage img;
+    img.width = 4 * pw + 3 * gap;
+    img.height = ph;
+    img.pixels.assign(size_t(img.width) * img.height * 4, 255);
+    double sgPeak = 0.0;
+    for (int p = 0; p < P; ++p) sgPeak = std::max(sgPeak, double(dec[pick * P + p].y));
+    for (int panel = 0; panel < 4; ++panel)
+      for (int y = 0; y < ph; ++y)
+        for (int x = 0; x < pw; ++x) {
+          const size_t p = size_t(y / scale) * kW + size_t(x / scale);
+          const float v = cpu[pick].image[p] ? 1.0f : 0.0f;
+          const float d = dec[pick * P + p].x, sg = dec[pick * P + p].y;
+          glm::vec3 c;
+          if (panel == 0) c = glm::vec3(v);
+          else if (panel == 1) {
+            const float t = std::clamp(d / 1.0f, -1.0f, 1.0f);
+            c = t >= 0.0f ? glm::mix(glm::vec3(0.5f), glm::vec3(1.0f, 0.85f, 0.1f), t)
+                          : glm::mix(glm::vec3(0.5f), glm::vec3(0.1f, 0.3f, 1.0f), -t);
+          } else if (panel == 2) c = glm::vec3(d > 0.0f ? 1.0f : 0.0f);
+          else c = glm::vec3(float(std::clamp(sg / std::max(1e-9, sgPeak), 0.0, 1.0)));
+          uint8_t* px = &img.pixels[(size_t(y) * img.width + size_t(panel * (pw + gap) + x)) * 4];
+          for (int ch = 0; ch < 3; ++ch) px[ch] = uint8_t(std::lround(255.0f * std::clamp(c[ch], 0.0f, 1.0f)));
+          px[3] = 255;
+        }
+    r.images.push_back(ctx.saveImage(img, "prt-visibility-segment"));
+    r.imageCaptions.push_back(fmt::format(
+        "segment {}: (a) visibility image {}×{} (white = visible), (b) PCA-compressed SSDF ({} components; yellow +, "
+        "blue −, ±1 rad), (c) its sign, (d) the sum of {} SGs (λ = {}) — 004 Fig. 4",
+        pick, kW, kH, pca.components, s.axes, s.lambda));
+  }
   r.histogramMetric = "ssdf.max_abs";
   r.metrics = {
       Metric{"ssdf.max_abs", ssdfErr, kSsdfTolerance, "rad", "GPU SSDF vs CPU, same images: float directions"},
