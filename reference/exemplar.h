@@ -38,7 +38,7 @@ struct ExemplarSegment {
 };
 
 struct Exemplar {
-XX
+  std::vector<ExemplarSegment> segments;  // the block's segments in the generator's order: span by span, ply, fiber, along the fiber
   uint32_t fibers = 0;                    // distinct fibers (ids 0 .. fibers − 1)
   float period = 0.0f;                    // P: the block is [0, P)² in x, y (fibers may reach a little beyond)
   float amplitude = 0.0f;                 // h

@@ -225,7 +225,10 @@ SvfPca svfPcaCpu(std::span<const float> ssdf, size_t rows, int pixels, int compo
       pca.eigenvalues[size_t(c)] = lambda;
       Eigen::VectorXd v = X.transpose() * es.eigenvectors().col(i);
       const double n = v.norm();
-      basis.col(c) = n > 0.0 ? Eigen::VectorXd(v / n) : Eigen::VectorXd::Zero(pixels);
+      // Centring leaves rank ≤ rows − 1: a null direction (λ ≈ 0) is rounding
+      // noise, not orthogonal to the rest; it is left out (zero basis, zero coefficient).
+      const double top = std::max(0.0, es.eigenvalues()(Eigen::Index(rows) - 1));
+      basis.col(c) = n > 0.0 && lambda > 1e-10 * top ? Eigen::VectorXd(v / n) : Eigen::VectorXd::Zero(pixels);
     }
   } else {
     const Mat Cov = X.transpose() * X;
@@ -238,6 +241,7 @@ SvfPca svfPcaCpu(std::span<const float> ssdf, size_t rows, int pixels, int compo
     }
   }
   for (int c = 0; c < C; ++c) {  // sign: largest |entry| positive (first on a tie), for a deterministic file
+    if (basis.col(c).squaredNorm() == 0.0) continue;
     Eigen::Index at = 0;
     basis.col(c).cwiseAbs().maxCoeff(&at);
     if (basis(at, c) < 0.0) basis.col(c) = -basis.col(c);
