@@ -118,10 +118,9 @@
 #define FT_SSBO_SVF_SSDF 75          // float[images][W·H]: the SSDF (radians, + visible)
 #define FT_SSBO_SVF_NEAREST 76       // int[images][W·H/2]: nearest axis of each z > 0 pixel
 #define FT_SSBO_SVF_WEIGHTS 77       // float[images][Q]: the SG weights w_k,q
-#define FT_SSBO_SVF_PCA_MEAN 78      // float[W·H]: the PCA mean SSDF
-#define FT_SSBO_SVF_PCA_BASIS 79     // float[C][W·H]: the principal directions
-#define FT_SSBO_SVF_PCA_COEFS 80     // float[images][C]: each image's coefficients
-#define FT_SSBO_SVF_DECODE 81        // vec2[images][W·H]: (PCA-reconstructed SSDF, V^ssg)
+#define FT_SSBO_SVF_PCA 78           // float: mean[W·H], then basis[C][W·H], then coefficients[images][C]
+#define FT_SSBO_SVF_DECODE 79        // vec2[images][W·H]: (PCA-reconstructed SSDF, V^ssg)
+// (llvmpipe has 80 SSBO binding points, 0–79: 80–85 of this group's range are unusable there.)
 #define FT_WG_SVF 64
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).

@@ -138,12 +138,15 @@ FT_FUNC float ftSvfDistanceKey(vec3 wp, vec3 wq, int px, int py, int qx, int qy,
   return dot(d, d);
 }
 
-// The geodesic distance of a distance key: 2 asin(chord/2) (well conditioned
-// for small angles, unlike acos of a dot product); the fault's key is already
-// an angle.
+// The geodesic distance of a distance key: 2 asin(chord/2), written as
+// 2 atan2(chord/2, √(1 − chord²/4)) — well conditioned at small angles
+// (unlike acos of a dot product), and Mesa lowers GLSL asin to a polynomial
+// ~4e-4 rad off at 1 rad, atan to one good to ~1e-6; the fault's key is
+// already an angle.
 FT_FUNC float ftSvfDistanceOfKey(float key) {
   if (FT_FAULT_SVF_SSDF_PIXEL_DISTANCE_ON) return sqrt(key);
-  return 2.0f * asin(min(1.0f, 0.5f * sqrt(key)));
+  float k = clamp(key, 0.0f, 4.0f);
+  return 2.0f * atan(0.5f * sqrt(k), sqrt(max(0.0f, 1.0f - 0.25f * k)));
 }
 
 // SSDF value of a pixel from the minimum key over the opposite boundary

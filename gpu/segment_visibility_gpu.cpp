@@ -65,7 +65,7 @@ SvfGpuResult SegmentVisibilityGpu::run(const SvfGpuBatch& b) {
   nearest.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_NEAREST);
   weights.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_WEIGHTS);
   const Buffer unused = bindPlaceholders(
-      {FT_SSBO_SVF_PCA_MEAN, FT_SSBO_SVF_PCA_BASIS, FT_SSBO_SVF_PCA_COEFS, FT_SSBO_SVF_DECODE});
+      {FT_SSBO_SVF_PCA, FT_SSBO_SVF_DECODE});
   SvfGpuResult r;
   {
     const Buffer u = params(b, 0, 0);
@@ -97,14 +97,13 @@ std::vector<glm::vec2> SegmentVisibilityGpu::decode(const SvfGpuBatch& b, std::s
                                             components));
   const Buffer u = params(b, 3, uint32_t(components));
   const Buffer unused = bindPlaceholders({FT_SSBO_SVF_IMAGES, FT_SSBO_SVF_SSDF, FT_SSBO_SVF_NEAREST});
-  const Buffer m = Buffer::create(P * 4, mean.data());
-  const Buffer ba = Buffer::create(std::max<size_t>(1, basis.size()) * 4, basis.data());
-  const Buffer co = Buffer::create(std::max<size_t>(1, coefficients.size()) * 4, coefficients.data());
+  std::vector<float> packed(mean.begin(), mean.end());
+  packed.insert(packed.end(), basis.begin(), basis.end());
+  packed.insert(packed.end(), coefficients.begin(), coefficients.end());
+  const Buffer pcaBuffer = Buffer::create(packed.size() * 4, packed.data());
   const Buffer w = Buffer::create(std::max<size_t>(1, weights.size()) * 4, weights.data());
   const Buffer out = Buffer::create(std::max<size_t>(1, n * P) * sizeof(glm::vec2));
-  m.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_PCA_MEAN);
-  ba.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_PCA_BASIS);
-  co.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_PCA_COEFS);
+  pcaBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_PCA);
   w.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_WEIGHTS);
   out.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_DECODE);
   dispatchFlat(program_.id(), n * P, FT_WG_SVF, maxGroupsY_, "segment_visibility (decode)");

@@ -329,10 +329,12 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
   const int P = kW * kH;
   double ssdfErr = 0.0, weightErr = 0.0, sumErr = 0.0, pcaErr = 0.0, sgErr = 0.0, sgMax = 0.0;
   uint64_t cellMismatch = 0, cellAmbiguous = 0, nonFiniteGpu = nonFinite(g.ssdf) + nonFinite(g.weights);
+  size_t worstImage = 0, worstPixel = 0;
   for (size_t i = 0; i < n; ++i) {
     for (int p = 0; p < P; ++p) {
       const double e = std::abs(double(g.ssdf[i * P + p]) - cpu[i].ssdf[size_t(p)]);
       r.histogram.add(e);
+      if (!(e <= ssdfErr)) worstImage = i, worstPixel = size_t(p);
       ssdfErr = maxKeepNaN(ssdfErr, e);
     }
     // Cells: the oracle's own axes (double, 004 §4.1c) decide which pixels are ambiguous.
@@ -431,6 +433,10 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
         "blue −, ±1 rad), (c) its sign, (d) the sum of {} SGs (λ = {}) — 004 Fig. 4",
         pick, kW, kH, pca.components, s.axes, s.lambda));
   }
+  if (n > 0)
+    r.details = fmt::format("worst SSDF: image {} pixel ({}, {}): cpu {:.8g} gpu {:.8g} rad", worstImage,
+                            worstPixel % kW, worstPixel / kW, cpu[worstImage].ssdf[worstPixel],
+                            g.ssdf[worstImage * P + worstPixel]);
   r.histogramMetric = "ssdf.max_abs";
   r.metrics = {
       Metric{"ssdf.max_abs", ssdfErr, kSsdfTolerance, "rad", "GPU SSDF vs CPU, same images: float directions"},

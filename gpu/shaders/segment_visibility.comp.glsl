@@ -20,9 +20,8 @@ layout(std430, binding = FT_SSBO_SVF_IMAGES) readonly buffer SvfImages { uint im
 layout(std430, binding = FT_SSBO_SVF_SSDF) writeonly buffer SvfSsdf { float ssdf[]; };
 layout(std430, binding = FT_SSBO_SVF_NEAREST) buffer SvfNearest { int nearest[]; };
 layout(std430, binding = FT_SSBO_SVF_WEIGHTS) buffer SvfWeights { float weights[]; };
-layout(std430, binding = FT_SSBO_SVF_PCA_MEAN) readonly buffer SvfMean { float pcaMean[]; };
-layout(std430, binding = FT_SSBO_SVF_PCA_BASIS) readonly buffer SvfBasis { float pcaBasis[]; };
-layout(std430, binding = FT_SSBO_SVF_PCA_COEFS) readonly buffer SvfCoefs { float pcaCoefs[]; };
+// mean[P], basis[C][P], coefficients[images][C], one after the other.
+layout(std430, binding = FT_SSBO_SVF_PCA) readonly buffer SvfPca { float pca[]; };
 layout(std430, binding = FT_SSBO_SVF_DECODE) writeonly buffer SvfDecode { vec2 decoded[]; };
 uniform uint groupsX;
 uniform uint itemCount;
@@ -77,13 +76,14 @@ void main() {
     weights[item] = sum;
   } else {
     uint image = item / P, p = item % P;
-    float pca = pcaMean[p];
-    for (uint c = 0u; c < svf.components; ++c) pca += pcaCoefs[image * svf.components + c] * pcaBasis[c * P + p];
+    uint coefs = P + svf.components * P + image * svf.components;
+    float rec = pca[p];
+    for (uint c = 0u; c < svf.components; ++c) rec += pca[coefs + c] * pca[P + c * P + p];
     vec3 w = ftSvfPixelDirection(int(p % svf.width), int(p / svf.width), W, H);
     float angle = rotationOf(image);
     float v = 0.0f;
     for (int q = 0; q < int(svf.axes); ++q)
       v += ftSvfSgTerm(weights[image * svf.axes + uint(q)], ftSvfAxis(q + 1, int(svf.axes), angle), svf.lambda, w);
-    decoded[item] = vec2(pca, v);
+    decoded[item] = vec2(rec, v);
   }
 }
