@@ -114,14 +114,16 @@ std::vector<uint8_t> SvfScene::visibilityImage(glm::vec3 origin, uint32_t ownFib
 
 std::vector<float> svfSsdfCpu(std::span<const uint8_t> image, int W, int H) {
   if (image.size() != size_t(W) * size_t(H)) throw std::invalid_argument("svfSsdfCpu: image size");
-  // Boundary lists: pixels with a 4-neighbour of the other value, per value.
-  std::vector<int> boundary[2];
+  // Boundary lists per value and row: pixels with a 4-neighbour of the other value.
+  std::vector<std::vector<int>> boundary[2];
+  boundary[0].resize(size_t(H));
+  boundary[1].resize(size_t(H));
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const uint8_t v = image[size_t(y) * W + x];
       for (int dir = 0; dir < 4; ++dir)
         if (image[size_t(ftSvfNeighbour(x, y, dir, W, H))] != v) {
-          boundary[v ? 1 : 0].push_back(y * W + x);
+          boundary[v ? 1 : 0][size_t(y)].push_back(x);
           break;
         }
     }
@@ -133,10 +135,21 @@ std::vector<float> svfSsdfCpu(std::span<const uint8_t> image, int W, int H) {
     for (int x = 0; x < W; ++x) {
       const bool visible = image[size_t(y) * W + x] != 0;
       const glm::vec3 wp = dirs[size_t(y) * W + x];
+      const std::vector<std::vector<int>>& rows = boundary[visible ? 0 : 1];
       float best = -1.0f;
-      for (int q : boundary[visible ? 0 : 1]) {  // in pixel order, as the GPU scans
-        const float key = ftSvfDistanceKey(wp, dirs[size_t(q)], x, y, q % W, q / W, W, H);
-        if (best < 0.0f || key < best) best = key;
+      // Rows outward from y; a row |Δy| away is at least π|Δy|/H away (the
+      // great-circle distance and the flat one are ≥ |Δθ|): stop past the best
+      // (with 1e-6 slack for float). Same minimum as the GPU's full scan.
+      for (int gap = 0; gap < H; ++gap) {
+        if (best >= 0.0f && FT_PI * float(gap) / float(H) > ftSvfDistanceOfKey(best) + 1e-6f) break;
+        for (int side = 0; side < (gap == 0 ? 1 : 2); ++side) {
+          const int qy = side == 0 ? y - gap : y + gap;
+          if (qy < 0 || qy >= H) continue;
+          for (int qx : rows[size_t(qy)]) {
+            const float key = ftSvfDistanceKey(wp, dirs[size_t(qy) * W + qx], x, y, qx, qy, W, H);
+            if (best < 0.0f || key < best) best = key;
+          }
+        }
       }
       out[size_t(y) * W + x] = ftSvfSsdfFromKey(visible, best);
     }
