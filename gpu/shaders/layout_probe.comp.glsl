@@ -15,6 +15,7 @@
 #include "common/shadow_map.h"
 #include "common/occlusion_cull.h"
 #include "common/srbf.h"
+#include "common/segment_visibility.h"
 
 layout(local_size_x = 1) in;
 
@@ -47,6 +48,7 @@ layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionP
 layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMapParams; };
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; };
+layout(std140, binding = FT_UBO_SVF) uniform SvfBlock { SvfParams svf; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -76,4 +78,9 @@ void main() {
   float srbfSum = srbf.constant.x;  // every lobe member read, so each is an active resource
   for (int j = 0; j < FT_SRBF_LOBES; ++j) srbfSum += srbf.lobes[j].axisLambda.x + srbf.lobes[j].weight.x;
   if (srbfSum == -12345.0) aoCopy.seed = ao.seed;
+  // Every SvfParams member read, so each is an active resource.
+  if (svf.width + svf.height + svf.axes + svf.segments + svf.seed + svf.components + svf.firstSegment + svf.mode ==
+          0xFFFFFFFFu &&
+      svf.lambda + svf.pad0 + svf.pad1 + svf.pad2 == -12345.0)
+    aoCopy.seed = ao.seed;
 }
