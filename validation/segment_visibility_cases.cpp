@@ -84,13 +84,23 @@ CaseResult runLoneCase(ValidationContext&, const std::string& name) {
   double ssdfErr = 0.0;
   for (float v : ssdf) ssdfErr = maxKeepNaN(ssdfErr, std::abs(double(v) - kPi));
   const double sum = std::accumulate(w.begin(), w.end(), 0.0);
+  // ∫ V^ssg dω = Σ_q w_q (each SG divided by its integral M, 004 §4.1b): the
+  // decode on a fine 512 × 256 grid, integrated with the oracle's band areas.
+  const int fw = 512, fh = 256;
+  const std::vector<float> fine = svfSgDecodeCpu(w, 0.7f, FT_SVF_LAMBDA, fw, fh);
+  double integral = 0.0;
+  for (int y = 0; y < fh; ++y)
+    for (int x = 0; x < fw; ++x) integral += double(fine[size_t(y) * fw + x]) * pixelSolidAngle(y, fw, fh);
   r.metrics = {
       Metric{"lone.occluded_pixels", double(std::count(img.begin(), img.end(), uint8_t(0))), 0, "pixels",
              "nothing but the segment's own fiber exists: every ray escapes (004 §4.1a)"},
       Metric{"lone.ssdf_max_err", ssdfErr, 1e-6, "rad", "no occluded pixel: SSDF = +π everywhere [F notes §5.6]"},
       Metric{"lone.weight_sum_rel", std::abs(sum - 2.0 * kPi) / (2.0 * kPi), kWeightSumTolerance, "relative",
              "Σ_q w = the upper hemisphere, 2π exactly (band areas); float sums of 2,048 pixels"},
-      nonFiniteMetric("cpu", nonFinite(ssdf) + nonFinite(w), "SSDF values and weights"),
+      Metric{"lone.sg_integral_rel", std::abs(integral - sum) / sum, 1e-3, "relative",
+             "∫ V^ssg over the sphere = Σ_q w (normalized SGs): midpoint rule on 0.7° pixels for lobes of width "
+             "1/√λ = 5°, second order: ~(0.7/5)²/24 ≈ 1e-3 worst case"},
+      nonFiniteMetric("cpu", nonFinite(ssdf) + nonFinite(w) + nonFinite(fine), "SSDF values, weights, V^ssg"),
   };
   r.finish();
   return r;
