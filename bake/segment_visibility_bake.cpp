@@ -227,6 +227,14 @@ SvfFile readSegmentVisibilityFile(const std::filesystem::path& path) {
   const size_t S = r.segments, P = size_t(r.width) * size_t(r.height), Q = size_t(r.axes), C = size_t(r.components);
   const size_t bitBytes = (P + 7) / 8;
   const size_t expected = S * 32 + S * 4 * (1 + Q + C) + 4 * P * (1 + C) + S * bitBytes;
+  // Compare with the file's size before allocating: a header may claim terabytes.
+  std::error_code ec;
+  const uintmax_t total = std::filesystem::file_size(path, ec);
+  if (ec || total < line.size() + 1 || total - (line.size() + 1) != expected)
+    throw InputError(fmt::format("{}: byte {}: expected exactly {} bytes after the header ({} segments, {}×{} pixels, "
+                                 "{} axes, {} components), the file has {}",
+                                 file, line.size() + 1, expected, S, r.width, r.height, Q, C,
+                                 ec ? std::string("an unknown size") : std::to_string(total - std::min<uintmax_t>(total, line.size() + 1))));
   std::vector<std::byte> body(expected);
   f.read(reinterpret_cast<char*>(body.data()), std::streamsize(expected));
   if (size_t(f.gcount()) != expected || f.peek() != std::char_traits<char>::eof())

@@ -281,6 +281,10 @@ TEST_F(SvfBakeFile, AnyShardSplitGivesTheSameFileAndTheReaderReadsIt) {
   badHeader.replace(badHeader.find("\"width\":16"), 10, "\"width\":-1");
   EXPECT_NE(message(badHeader).find("\"width\""), std::string::npos);
   EXPECT_NE(message("not json\n").find("header line is not JSON"), std::string::npos);
+  // A header that claims far more data than the file holds: refused before any allocation.
+  std::string huge = first;
+  huge.replace(huge.find("\"segments\":"), 11, "\"segments\":67108864,\"x\":");
+  EXPECT_NE(message(huge).find("expected exactly"), std::string::npos);
 }
 
 TEST(SvfBake, BadOptionsNameTheOption) {
