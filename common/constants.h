@@ -123,6 +123,17 @@
 #define FT_SSBO_FLYAWAY_TEXELS 67      // uint[3][H][W]: RGBA8 (packUnorm4x8), 0 = empty
 #define FT_SSBO_FLYAWAY_FRAME 68       // uint[3][H][W]: the frame's copy of the texels (fiber_strip.frag.glsl)
 #define FT_WG_FLYAWAY 64
+// Segment visibility functions of 004 §4.1 (common/segment_visibility.h,
+// gpu/segment_visibility_gpu.h): UBO 18–19 and SSBO 74–85 are this group's.
+#define FT_UBO_SVF 18                // SvfParams
+#define FT_SSBO_SVF_IMAGES 74        // uint[images][W·H]: the binary visibility images (1 = visible)
+#define FT_SSBO_SVF_SSDF 75          // float[images][W·H]: the SSDF (radians, + visible)
+#define FT_SSBO_SVF_NEAREST 76       // int[images][W·H/2]: nearest axis of each z > 0 pixel
+#define FT_SSBO_SVF_WEIGHTS 77       // float[images][Q]: the SG weights w_k,q
+#define FT_SSBO_SVF_PCA 78           // float: mean[W·H], then basis[C][W·H], then coefficients[images][C]
+#define FT_SSBO_SVF_DECODE 79        // vec2[images][W·H]: (PCA-reconstructed SSDF, V^ssg)
+// (llvmpipe has 80 SSBO binding points, 0–79: 80–85 of this group's range are unusable there.)
+#define FT_WG_SVF 64
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u

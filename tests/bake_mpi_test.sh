@@ -2,7 +2,8 @@
 # bake_mpi_test.sh FIBERTWIN WITH_MPI — `fibertwin bake` across MPI ranks
 # (bake/bake_runner.h, docs/bakes.md):
 #   WITH_MPI=1: the AO bake under `mpirun -np 1, 2, 3` and the ξ bake
-#     (ds-correction) under `mpirun -np 2` are byte for byte the ones without mpirun (the determinism contract: `cmp` is the check); a
+#     (ds-correction) and the segment visibility bake (segment-visibility)
+#     under `mpirun -np 2` are byte for byte the ones without mpirun (the determinism contract: `cmp` is the check); a
 #     failure planted on a worker rank and on rank 0's worker thread
 #     (FT_BAKE_FAIL_RANK) ends the job with the message, a non-zero status
 #     and no output, well within the timeout (no rank left waiting); an
@@ -84,6 +85,24 @@ if "$FT" "${XI[@]}" --out "$TMP/xi-one.bin" >"$TMP/out" 2>"$TMP/err"; then
   fi
 else
   fail "ds-correction, no mpirun: status $?" "$TMP/err"
+fi
+
+# The segment visibility bake of 004 §4.1 (sharded by segment ranges, the PCA
+# on rank 0 in write()) at CI size: 64 segments, 16² images, 16 shards.
+SVF=(bake segment-visibility --fibers-per-ply 2 --spans 4 --subdivisions 1 --tiles 3 --width 16 --height 16
+  --components 16 --segments-per-shard 4)
+if "$FT" "${SVF[@]}" --out "$TMP/svf-one.bin" >"$TMP/out" 2>"$TMP/err"; then
+  if timeout 120 "${MPIRUN[@]}" -np 2 "$FT" "${SVF[@]}" --out "$TMP/svf-np2.bin" >"$TMP/out" 2>"$TMP/err"; then
+    if cmp "$TMP/svf-one.bin" "$TMP/svf-np2.bin"; then
+      ok "segment-visibility, mpirun -np 2: identical to the run without mpirun: $(tail -1 "$TMP/out")"
+    else
+      fail "segment-visibility, mpirun -np 2: output differs from the run without mpirun"
+    fi
+  else
+    fail "segment-visibility, mpirun -np 2: status $?" "$TMP/err"
+  fi
+else
+  fail "segment-visibility, no mpirun: status $?" "$TMP/err"
 fi
 
 # A planted failure: rank 1 (a worker rank) and rank 0 (the coordinator's worker thread).

@@ -19,6 +19,7 @@
 #include "common/flyaway.h"
 #include "common/knit_stitch.h"
 #include "common/occlusion_cull.h"
+#include "common/segment_visibility.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
 #include "common/view_params.h"
@@ -74,6 +75,8 @@ namespace {
   X(halfWidth) X(kappa) X(densityResolution) X(marchStep)
 #define FT_SHADOW_MAP_PARAMS_MEMBERS(X) X(lightX) X(lightY) X(lightZ) X(extent) X(tube) X(count)
 #define FT_OCCLUSION_PYRAMID_MEMBERS(X) X(size) X(level)
+#define FT_SVF_PARAMS_MEMBERS(X) \
+  X(width) X(height) X(axes) X(segments) X(seed) X(components) X(firstSegment) X(mode) X(lambda) X(pad0) X(pad1) X(pad2)
 #define FT_SRBF_ENVIRONMENT_MEMBERS(X) \
   X(lobes[0].axisLambda) X(lobes[0].weight) X(lobes[1].axisLambda) X(lobes[1].weight) X(lobes[2].axisLambda) X(lobes[2].weight) X(lobes[3].axisLambda) X(lobes[3].weight) \
    X(lobes[4].axisLambda) X(lobes[4].weight) X(lobes[5].axisLambda) X(lobes[5].weight) X(lobes[6].axisLambda) X(lobes[6].weight) X(lobes[7].axisLambda) X(lobes[7].weight) \
@@ -143,6 +146,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(OcclusionPyramid, FT_OCCLUSION_PYRAMID_MEMBERS, "OcclusionBlock", "pyramid", FT_UBO_OCCLUSION),
       FT_UNIFORM_CASE(SrbfEnvironment, FT_SRBF_ENVIRONMENT_MEMBERS, "SrbfBlock", "srbf", FT_UBO_SRBF),
       FT_UNIFORM_CASE(FlyawayParams, FT_FLYAWAY_PARAMS_MEMBERS, "FlyawayBlock", "fly", FT_UBO_FLYAWAY),
+      FT_UNIFORM_CASE(SvfParams, FT_SVF_PARAMS_MEMBERS, "SvfBlock", "svf", FT_UBO_SVF),
   };
 }
 

@@ -12,6 +12,7 @@
 #include "common/dual_scattering.h"
 #include "common/fiber_shading.h"
 #include "common/lod.h"
+#include "common/segment_visibility.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"

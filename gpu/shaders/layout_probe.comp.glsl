@@ -16,6 +16,7 @@
 #include "common/occlusion_cull.h"
 #include "common/srbf.h"
 #include "common/flyaway.h"
+#include "common/segment_visibility.h"
 
 layout(local_size_x = 1) in;
 
@@ -49,6 +50,7 @@ layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapPa
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; };
 layout(std140, binding = FT_UBO_FLYAWAY) uniform FlyawayBlock { FlyawayParams fly; };
+layout(std140, binding = FT_UBO_SVF) uniform SvfBlock { SvfParams svf; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -84,4 +86,9 @@ void main() {
                  fly.alpha + fly.noise + fly.zReach + fly.margin + fly.poissonThresholdB + fly.poissonThresholdI;
   uint flyBits = fly.width ^ fly.height ^ fly.maxPerSet ^ fly.patterns ^ fly.chunksB ^ fly.chunksI ^ fly.seed ^ fly.pad0 ^ fly.pad1;
   if (flySum == -12345.0 && flyBits == 0x12345u) aoCopy.seed = ao.seed;
+  // Every SvfParams member read, so each is an active resource.
+  if (svf.width + svf.height + svf.axes + svf.segments + svf.seed + svf.components + svf.firstSegment + svf.mode ==
+          0xFFFFFFFFu &&
+      svf.lambda + svf.pad0 + svf.pad1 + svf.pad2 == -12345.0)
+    aoCopy.seed = ao.seed;
 }
