@@ -11,6 +11,7 @@
 #include "common/ds_correction.h"
 #include "common/dual_scattering.h"
 #include "common/fiber_shading.h"
+#include "common/flyaway.h"
 #include "common/lod.h"
 #include "common/segment_visibility.h"
 #include "common/self_shadow.h"
@@ -21,8 +22,8 @@
 #include "common/yarn_frame.h"
 #include "knit/knit_render.h"
 #include "reference/ds_correction.h"
-#include "common/flyaway.h"
 #include "reference/flyaway.h"
+#include "reference/segment_visibility.h"
 
 namespace ft {
 
