@@ -211,6 +211,8 @@ void finishViewOptions(ft::ViewOptions& v, const ViewOptionText& text) {
 // adds its flags here once.
 struct AppearanceOptionText {
   std::string ao = "fit", dsCorrection;
+  double lightAngularRadiusDeg = 0.0;  // --light-angular-radius (degrees), when given
+  CLI::Option* lightAngularRadius = nullptr;
 };
 void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOptionText& text) {
   app->add_flag("!--no-self-shadow", a.selfShadow,
@@ -234,9 +236,18 @@ void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOpt
   app->add_option("--ds-correction", text.dsCorrection,
                   "with --dual-scattering (implied): the ξ and Ψ_G^Fiber bake of `fibertwin bake ds-correction` "
                   "(001 eq. 11), for the frame's yarn preset and fabric; its Ψ_G^Fiber replaces the self-shadow T");
+  app->add_flag("--soft-shadows", a.softShadows,
+                "soft yarn shadows: PCSS (Fernando 2005; 001 §4.5) on the yarn shadow map, each light a cone of "
+                "--light-angular-radius (docs/soft-shadows.md)");
+  text.lightAngularRadius = app->add_option("--light-angular-radius", text.lightAngularRadiusDeg,
+                  "with --soft-shadows (implied): the lights' angular radius in degrees, [0, 60] (default 5.73)");
 }
 void finishAppearanceOptions(ft::AppearanceOptions& a, const AppearanceOptionText& text) {
   a.ao = ft::parseAoMode(text.ao);
+  if (text.lightAngularRadius && text.lightAngularRadius->count() > 0) {  // checked with the bake (frameSoftShadows)
+    a.lightAngularRadius = float(text.lightAngularRadiusDeg * 3.14159265358979323846 / 180.0);
+    a.softShadows = true;
+  }
   if (!text.dsCorrection.empty()) {
     a.dsCorrectionFile = text.dsCorrection;
     a.dualScattering = true;

@@ -45,6 +45,9 @@ inline bool ftFaultShadingCosDropped = false;
 // is bound, whose Ψ_G^Fiber replaces the self-shadow T (docs/shaded-frame.md).
 #define FT_APPEARANCE_DUAL_SCATTERING 32u
 #define FT_APPEARANCE_DS_CORRECTION 64u
+// 001 §4.5 (eq. 17's T̃^Yarn): PCSS soft shadows on the yarn shadow map, each
+// light a cone of PcssParams.lightTanAlpha (common/pcss.h); needs SHADOW_MAP.
+#define FT_APPEARANCE_SOFT_SHADOWS 128u
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 // Texels per lobe of the lobe-normalisation table Z_p(|θ_i|) (bcsdf.h).

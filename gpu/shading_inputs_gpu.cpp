@@ -49,6 +49,7 @@ ShadingInputs ShadingBakeGpu::bake(const ShadingBakeRequest& request) {
     if (!request.fittedPreset) throw std::invalid_argument("ShadingBakeGpu: the shadow map needs the yarn preset");
     frameShadowMap(in, makeYarnDensity(*request.fittedPreset), request.appearance);
   }
+  frameSoftShadows(in, request.appearance);  // soft yarn shadows (001 §4.5, PCSS): drawn per frame, nothing to bake
   // Dual scattering (001 §4.1, §4.3): the GPU's own table (float quadrature),
   // the ξ textures of the bake file scaled to the model, or identity.
   frameDsCorrection(in, request.fittedPreset, request.appearance);

@@ -18,6 +18,7 @@
 #include "common/fiber_vertex.h"
 #include "common/knit_stitch.h"
 #include "common/occlusion_cull.h"
+#include "common/pcss.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
 #include "common/view_params.h"
@@ -79,6 +80,7 @@ namespace {
    X(lobes[8].axisLambda) X(lobes[8].weight) X(lobes[9].axisLambda) X(lobes[9].weight) X(lobes[10].axisLambda) X(lobes[10].weight) X(lobes[11].axisLambda) X(lobes[11].weight) \
    X(lobes[12].axisLambda) X(lobes[12].weight) X(lobes[13].axisLambda) X(lobes[13].weight) X(lobes[14].axisLambda) X(lobes[14].weight) X(lobes[15].axisLambda) X(lobes[15].weight) \
   X(constant)
+#define FT_PCSS_PARAMS_MEMBERS(X) X(lightTanAlpha) X(lobeX) X(lobeY) X(lobeZ) X(lobeCone) X(extent) X(count)
 // clang-format on
 
 struct Member {
@@ -137,6 +139,7 @@ std::vector<StructCase> structCases() {
                       FT_UBO_SHADOW_MAP),
       FT_UNIFORM_CASE(OcclusionPyramid, FT_OCCLUSION_PYRAMID_MEMBERS, "OcclusionBlock", "pyramid", FT_UBO_OCCLUSION),
       FT_UNIFORM_CASE(SrbfEnvironment, FT_SRBF_ENVIRONMENT_MEMBERS, "SrbfBlock", "srbf", FT_UBO_SRBF),
+      FT_UNIFORM_CASE(PcssParams, FT_PCSS_PARAMS_MEMBERS, "PcssBlock", "pcss", FT_UBO_PCSS),
   };
 }
 

@@ -12,6 +12,7 @@
 #include "common/dual_scattering.h"
 #include "common/fiber_shading.h"
 #include "common/lod.h"
+#include "common/pcss.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
@@ -69,6 +70,8 @@ inline void setSharedFault(std::string_view define, bool on) {
   if (define == "FT_FAULT_SRBF_TABLE_COS_INDEX") ftFaultSrbfTableCosIndex = on;
   if (define == "FT_FAULT_SRBF_TABLE_LAMBDA_INVERSE") ftFaultSrbfTableLambdaInverse = on;
   if (define == "FT_FAULT_FRAME_DS_UNSCALED") ftFaultFrameDsUnscaled = on;
+  if (define == "FT_FAULT_PCSS_RECEIVER_DEPTH") ftFaultPcssReceiverDepth = on;
+  if (define == "FT_FAULT_PCSS_ALPHA_INVERSE_LAMBDA") ftFaultPcssAlphaInverseLambda = on;
 }
 
 inline const Fault* findFault(std::string_view name) {

@@ -15,6 +15,8 @@
 #include "common/shadow_map.h"
 #include "common/occlusion_cull.h"
 #include "common/srbf.h"
+#include "common/pcss.h"
+float ftPcssFetch(int source, uint i) { return 0.0; }  // the lookups are not run here
 
 layout(local_size_x = 1) in;
 
@@ -47,6 +49,7 @@ layout(std430, binding = FT_SSBO_AO_OUTPUT) buffer AoCopyBuf { AmbientOcclusionP
 layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMapParams; };
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; };
+layout(std140, binding = FT_UBO_PCSS) uniform PcssBlock { PcssParams pcss; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -76,4 +79,7 @@ void main() {
   float srbfSum = srbf.constant.x;  // every lobe member read, so each is an active resource
   for (int j = 0; j < FT_SRBF_LOBES; ++j) srbfSum += srbf.lobes[j].axisLambda.x + srbf.lobes[j].weight.x;
   if (srbfSum == -12345.0) aoCopy.seed = ao.seed;
+  float pcssSum = pcss.lightTanAlpha.x + pcss.extent.x + float(pcss.count.x);  // every member read
+  for (int j = 0; j < FT_PCSS_MAX_LOBES; ++j) pcssSum += pcss.lobeX[j].x + pcss.lobeY[j].x + pcss.lobeZ[j].x + pcss.lobeCone[j].x;
+  if (pcssSum == -12345.0) aoCopy.seed = ao.seed;
 }
