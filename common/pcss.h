@@ -37,7 +37,8 @@
 #include "shadow_map.h"
 
 // Planted faults (validation/faults.def). Shared ones: run-time switch in C++,
-// define in GLSL. FT_FAULT_PCSS_SEARCH_UNSCALED is GPU-only (GLSL define).
+// define in GLSL. FT_FAULT_PCSS_SEARCH_UNSCALED and FT_FAULT_PCSS_LOBE_LAYER_SHIFT
+// are GPU-only (GLSL defines; the C++ side never sees them).
 #ifdef __cplusplus
 namespace ft {
 inline bool ftFaultPcssReceiverDepth = false;
@@ -78,7 +79,6 @@ float ftPcssFetch(int source, uint i);  // defined by the includer
 #define FT_PCSS_MAX_LOBES 16               // = FT_SRBF_LOBES
 #define FT_PCSS_LOBE_MIN_SHARE 0.01f       // lobes with less of the environment's energy get no map (T̃ = 1)
 #define FT_PCSS_LOBE_DEFAULT_SIZE 1024u    // lobe map texels per side (notes A11 [F])
-#define FT_PCSS_LOBE_CI_SIZE 128u
 #define FT_PCSS_GOLDEN_ANGLE 2.39996323f   // π(3 − √5)
 #define FT_PCSS_SOURCE_LIGHTS 0
 #define FT_PCSS_SOURCE_LOBES 1
