@@ -29,6 +29,12 @@
 //                                         uniform ambient; its bake (GPU fit sums
 //                                         + table) once, counter env_bake_ms.
 //                                         001 Table 1 (RTX 3090) in the context.
+//   BM_ShadedComputeSoft/{frame,closeup}   the culled frame with soft yarn shadows
+//                                         (PCSS, common/pcss.h; --light-angular-radius=DEG,
+//                                         default 5.73): the PCSS variant of the shaded pass;
+//   BM_LobeShadowPass                      the 16 SRBF lobes' depth passes
+//                                         (FiberRenderer::drawLobeShadowMaps, every lobe
+//                                         with energy, 1024² each) and their copy.
 // Counters of the culled frames: the phases of one frame timed apart
 // (FrameTimings: shadow map, generation, occluder pass, shaded pass) and the
 // share of pixels an occluder covers.
@@ -44,6 +50,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -92,6 +99,7 @@ struct Setup {
   std::string envPath = FT_SOURCE_DIR "/data/env/sky.exr";
   std::unique_ptr<ft::FiberRenderer> envRenderer;
   double envBakeMs = 0.0;
+  ft::ShadingInputs inputs, softInputs;  // the frame's, and the same with soft shadows
 };
 Setup* g = nullptr;
 
@@ -187,6 +195,41 @@ void BM_Preview(benchmark::State& state, const ft::ViewParams* view) {
   }
 }
 
+// The culled frame with soft shadows (the PCSS variant), inputs restored after.
+void BM_SoftFrame(benchmark::State& state, const ft::ViewParams* view) {
+  g->gpu->setParams(g->fibers.params, *view);
+  g->renderer->setShading(g->softInputs);
+  g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);  // warm-up: the variant, the map
+  glFinish();
+  for (auto _ : state) {
+    g->timer->begin();
+    g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  ft::FrameTimings t;
+  g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height, &t);
+  state.counters["shaded_pass_ms"] = t.shadeMs;
+  g->renderer->setShading(g->inputs);
+}
+
+// 16 lobes on Fibonacci axes, λ = 1.885 (notes A9's λ0), equal weights: every lobe gets a map.
+void BM_LobeShadowPass(benchmark::State& state) {
+  ft::SrbfEnvironment env{};
+  for (int j = 0; j < FT_SRBF_LOBES; ++j) {
+    const float z = 1.0f - (2.0f * j + 1.0f) / FT_SRBF_LOBES, r = std::sqrt(1.0f - z * z), phi = 2.39996323f * j;
+    env.lobes[j].axisLambda = glm::vec4(r * std::cos(phi), r * std::sin(phi), z, 1.885f);
+    env.lobes[j].weight = glm::vec4(1.0f);
+  }
+  g->renderer->drawLobeShadowMaps(*g->gpu, env, FT_PCSS_LOBE_DEFAULT_SIZE);  // warm-up
+  glFinish();
+  for (auto _ : state) {
+    g->timer->begin();
+    g->renderer->drawLobeShadowMaps(*g->gpu, env, FT_PCSS_LOBE_DEFAULT_SIZE);
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+  }
+  state.counters["layers"] = double(g->renderer->pcssParams().count.x);
+}
+
 void BM_ShadowPass(benchmark::State& state) {
   g->renderer->drawShadowMap(*g->gpu);  // warm-up: the program, the depth texture
   glFinish();
@@ -216,6 +259,9 @@ int main(int argc, char** argv) {
     ft::takeFlag(argc, argv, "env", setup.envPath);
     if (ft::takeFlag(argc, argv, "width", n)) setup.width = std::max(16, std::atoi(n.c_str()));
     if (ft::takeFlag(argc, argv, "height", n)) setup.height = std::max(16, std::atoi(n.c_str()));
+    ft::AppearanceOptions softAppearance = appearance;
+    softAppearance.softShadows = true;
+    if (ft::takeFlag(argc, argv, "light-angular-radius", n)) softAppearance.lightAngularRadius = float(std::atof(n.c_str()) * 3.14159265358979323846 / 180.0);
     setup.model = ft::readBcc(modelPath);
     setup.buffers = ft::buildYarnBuffers(setup.model);
     setup.fibers = ft::fitFibers(ft::findYarnPreset(yarn), setup.model, ft::FiberOptions{});
@@ -238,7 +284,13 @@ int main(int argc, char** argv) {
     setup.gpu = std::make_unique<ft::FiberGpu>(gi);
     setup.gpu->setModel(setup.buffers, setup.fibers.table);
     setup.renderer = std::make_unique<ft::FiberRenderer>(gi);
-    setup.renderer->setShading(ft::ShadingBakeGpu(gi).bake({shading, &setup.fibers.fit.preset, appearance, &setup.fibers.params, &setup.fibers.table}));
+    {
+      ft::ShadingBakeGpu bake(gi);
+      setup.inputs = bake.bake({shading, &setup.fibers.fit.preset, appearance, &setup.fibers.params, &setup.fibers.table});
+      if (softAppearance.shadowMap)
+        setup.softInputs = bake.bake({shading, &setup.fibers.fit.preset, softAppearance, &setup.fibers.params, &setup.fibers.table});
+    }
+    setup.renderer->setShading(setup.inputs);
     setup.timer = std::make_unique<ft::GpuTimer>(gi);
     setup.appearance = appearance;
 
@@ -298,6 +350,13 @@ int main(int argc, char** argv) {
     }
     if (appearance.shadowMap)
       benchmark::RegisterBenchmark("BM_ShadowPass", BM_ShadowPass)->Unit(benchmark::kMillisecond)->UseManualTime();
+    if (appearance.shadowMap)
+      for (size_t i = 0; i < setup.namedViews.size(); ++i)
+        benchmark::RegisterBenchmark(fmt::format("BM_ShadedComputeSoft/{}", setup.namedViews[i].first).c_str(), BM_SoftFrame,
+                                     &setup.namedViewParams[i])
+            ->Unit(benchmark::kMillisecond)
+            ->UseManualTime();
+    benchmark::RegisterBenchmark("BM_LobeShadowPass", BM_LobeShadowPass)->Unit(benchmark::kMillisecond)->UseManualTime();
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();

@@ -245,6 +245,8 @@ struct AppearanceOptionText {
   std::string ao = "fit", dsCorrection;
   std::string env, envTable;  // --env FILE, --env-table N_θo,N_θj,N_Δφ,N_λ
   float flyawayLength = 1.0f;
+  double lightAngularRadiusDeg = 0.0;  // --light-angular-radius (degrees), when given
+  CLI::Option* lightAngularRadius = nullptr;
 };
 void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOptionText& text) {
   app->add_flag("!--no-self-shadow", a.selfShadow,
@@ -282,6 +284,11 @@ void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOpt
   app->add_option("--flyaway-length", text.flyawayLength,
                   "scales z_e and R_e (001 Fig. 15's extended flyaways: 3; default 1)");
   app->add_option("--flyaway-size", a.flyawaySettings.width, "flyaway texels along one period (default 512; height: a quarter)");
+  app->add_flag("--soft-shadows", a.softShadows,
+                "soft yarn shadows: PCSS (Fernando 2005; 001 §4.5) on the yarn shadow map, each light a cone of "
+                "--light-angular-radius (docs/soft-shadows.md)");
+  text.lightAngularRadius = app->add_option("--light-angular-radius", text.lightAngularRadiusDeg,
+                  "with --soft-shadows (implied): the lights' angular radius in degrees, [0, 60] (default 5.73)");
 }
 void finishAppearanceOptions(ft::AppearanceOptions& a, const AppearanceOptionText& text) {
   a.ao = ft::parseAoMode(text.ao);
@@ -292,6 +299,10 @@ void finishAppearanceOptions(ft::AppearanceOptions& a, const AppearanceOptionTex
                             a.flyawaySettings.width != ft::FlyawaySettings{}.width;
   if (flyawayTuned && !a.flyaways)
     throw ft::InputError("--flyaway-alpha, --flyaway-noise, --flyaway-length and --flyaway-size need --flyaways");
+  if (text.lightAngularRadius && text.lightAngularRadius->count() > 0) {  // checked with the bake (frameSoftShadows)
+    a.lightAngularRadius = float(text.lightAngularRadiusDeg * 3.14159265358979323846 / 180.0);
+    a.softShadows = true;
+  }
   if (!text.dsCorrection.empty()) {
     a.dsCorrectionFile = text.dsCorrection;
     a.dualScattering = true;

@@ -69,6 +69,14 @@
 #define FT_TEX_OCCLUDER_DEPTH 0    // sampler2DMS: the occluder pass's depth (pyramid level 0 reads it)
 #define FT_WG_OCCLUSION 8          // 8 × 8 texels per work group
 
+// Soft yarn shadows by PCSS (common/pcss.h, 001 §4.5 eq. 17, docs/soft-shadows.md;
+// FiberRenderer's lobe maps and the frame's lookup): UBO 17, SSBO 70–73 are this group's.
+#define FT_UBO_PCSS 17             // PcssParams
+#define FT_SSBO_PCSS_LOBE_MAPS 70  // float[lobe layers][N][N]: the SRBF lobes' shadow maps, stored depth in [0, 1]
+#define FT_SSBO_PCSS_REQUESTS 71   // vec4 (p, light or lobe index) lookup requests (harness)
+#define FT_SSBO_PCSS_RESULTS 72    // float T̃ per request
+#define FT_WG_PCSS 64
+
 // Shading inputs (scene/shading_inputs.h): everything a shaded frame reads
 // besides the fibers, bound together by gpu/fiber_renderer.cpp. A new
 // precomputed input takes its slot here.

@@ -50,6 +50,9 @@ inline bool ftFaultShadingCosDropped = false;
 #define FT_APPEARANCE_ENVIRONMENT 128u
 // 001 §4.4: the flyaway textures drawn in the frame's third pass (common/flyaway.h, docs/flyaways.md).
 #define FT_APPEARANCE_FLYAWAYS 256u
+// 001 §4.5 (eq. 17's T̃^Yarn): PCSS soft shadows on the yarn shadow map, each
+// light a cone of PcssParams.lightTanAlpha (common/pcss.h); needs SHADOW_MAP.
+#define FT_APPEARANCE_SOFT_SHADOWS 512u
 // Texels of the ambient table A(θ_o) over [−π/2, π/2] (notes-rendering A4 [F]).
 #define FT_AMBIENT_TABLE_SIZE 64
 // Texels per lobe of the lobe-normalisation table Z_p(|θ_i|) (bcsdf.h).

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "common/constants.h"
@@ -64,17 +65,19 @@ struct MultisampleTarget {
   }
 };
 
-FiberRenderer::FiberRenderer(const GlInfo&, std::vector<std::string> defines)
+FiberRenderer::FiberRenderer(const GlInfo& gl, std::vector<std::string> defines)
     : defines_(std::move(defines)),
       // Planted fault (validation/faults.def) of the renderer's own C++: the map kept across setModel.
       faultShadowMapStale_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_SHADOW_MAP_STALE") != defines_.end()),
       faultFlyawayNoDepthTest_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_FRAME_FLYAWAY_NO_DEPTH_TEST") !=
-                               defines_.end()) {}
+                               defines_.end()),
+      maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {}
 
 FiberRenderer::~FiberRenderer() = default;
 
-GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass pass) {
-  Program& p = programs_[path == FiberPath::Compute ? 0 : 1][int(pass)];
+GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass pass, bool pcss) {
+  const bool shadedPass = pass != StripPass::PlainOccluders && pass != StripPass::CoreOccluders;
+  Program& p = programs_[path == FiberPath::Compute ? 0 : 1][int(pass)][pcss && shadedPass ? 1 : 0];
   if (!p) {
     FiberDrawStages stages = fibers.drawStages(path);
     stages.files.push_back("shaders/fiber_strip.geom.glsl");
@@ -87,6 +90,7 @@ GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass 
     if (env) defines.push_back("FT_FRAME_ENVIRONMENT");
     if (pass == StripPass::PlainOccluders || pass == StripPass::CoreOccluders) defines.push_back("FT_OCCLUDER_PASS");
     if (pass == StripPass::PlainOccluders) defines.push_back("FT_OCCLUDER_PLAIN");
+    if (pcss && shadedPass) defines.push_back("FT_FRAME_PCSS");  // soft shadows: compiled out otherwise (llvmpipe runs all code)
     p = Program(buildProgram(stages.files, defines));
   }
   return p.id();
@@ -145,6 +149,18 @@ void FiberRenderer::setShading(const ShadingInputs& inputs) {
   // Flyaways (001 §4.4): the block and the three layers; 16 bytes when off.
   flyawayUbo_ = makeBuffer(sizeof(FlyawayParams), &inputs.flyaway);
   flyawayTexels_ = makeBuffer(inputs.flyawayTexels.size() * sizeof(uint32_t), inputs.flyawayTexels.data());
+  // Soft shadows (common/pcss.h): the lights' cones now, the lobe maps when drawn.
+  pcssParams_.lightTanAlpha = inputs.lightTanAlpha;
+  if (!inputs.lobeShadowEnvironment) lobeLayers_ = 0;
+  uploadPcss();
+}
+
+void FiberRenderer::uploadPcss() {
+  if (!pcssUbo_) pcssUbo_ = makeBuffer(sizeof(PcssParams), nullptr);
+  if (lobeLayers_ == 0)  // no lobe maps: every lobe reads T̃ = 1
+    for (int j = 0; j < FT_PCSS_MAX_LOBES; ++j) pcssParams_.lobeCone[j] = glm::vec4(0.0f, -1.0f, 0.0f, 0.0f);
+  pcssUbo_.update(&pcssParams_, sizeof(PcssParams));
+  if (!lobeTexels_) lobeTexels_ = makeBuffer(16, nullptr);
 }
 
 // ---- Flyaways: the third pass (001 §4.4, §5.2; flyaway_strip.*.glsl) ----
@@ -253,6 +269,139 @@ std::vector<float> FiberRenderer::readShadowMap() const {
   return out;
 }
 
+// ---- Soft shadows: the SRBF lobes' maps (001 §4.5, common/pcss.h) ----
+
+void FiberRenderer::drawLobeShadowMaps(FiberGpu& fibers, const SrbfEnvironment& env, uint32_t size) {
+  if (size < 16 || size > 8192) throw std::invalid_argument(fmt::format("FiberRenderer: lobe shadow map size {}", size));
+  // Which lobes get a map: those with ≥ FT_PCSS_LOBE_MIN_SHARE of Σ_j lum(W_j)·∫G_j dω
+  // (∫G dω = 2π(1 − e^{−2λ})/λ, eq. 14); the others' T̃ = 1 costs < 1 % each.
+  float energy[FT_PCSS_MAX_LOBES], total = 0.0f;
+  for (int j = 0; j < FT_PCSS_MAX_LOBES; ++j) {
+    const glm::vec4 w = env.lobes[j].weight;
+    const float lambda = std::max(env.lobes[j].axisLambda.w, 1e-6f);
+    const float lum = std::max(0.2126f * w.x + 0.7152f * w.y + 0.0722f * w.z, 0.0f);
+    energy[j] = lum * 2.0f * 3.14159265f * (1.0f - std::exp(-2.0f * lambda)) / lambda;
+    if (!std::isfinite(energy[j]) || !std::isfinite(lambda))
+      throw std::invalid_argument(fmt::format("FiberRenderer: SRBF lobe {} has energy {} (λ {})", j, energy[j], lambda));
+    total += energy[j];
+  }
+  const float w = inputs_.density.supportRadius;
+  if (!(w > 0.0f)) throw std::logic_error("FiberRenderer: drawLobeShadowMaps() needs shading inputs with the tube radius W");
+  const glm::vec3 lo = fibers.boundsMin(), hi = fibers.boundsMax();
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = 0.5f * glm::length(hi - lo) * 1.05f + 2.0f * w;  // the light maps' box (drawShadowMap)
+  PcssParams& pc = pcssParams_;
+  std::vector<int> lobeOfLayer;
+  for (int j = 0; j < FT_PCSS_MAX_LOBES; ++j) {
+    const glm::vec3 mu = glm::vec3(env.lobes[j].axisLambda);
+    const float share = total > 0.0f ? energy[j] / total : 0.0f;
+    const float alpha = ftPcssLobeAngle(env.lobes[j].axisLambda.w);
+    const bool mapped = share >= FT_PCSS_LOBE_MIN_SHARE && glm::length(mu) > 0.5f;
+    pc.lobeCone[j] = glm::vec4(std::tan(alpha), mapped ? float(lobeOfLayer.size()) : -1.0f, alpha, share);
+    pc.lobeX[j] = pc.lobeY[j] = pc.lobeZ[j] = glm::vec4(0.0f);
+    if (!mapped) continue;
+    lobeOfLayer.push_back(j);
+    const glm::vec3 z = -glm::normalize(mu);  // the lobe's propagation
+    const glm::vec3 helper = std::abs(z.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const glm::vec3 x = glm::normalize(glm::cross(helper, z));
+    const glm::vec3 y = glm::cross(z, x);
+    pc.lobeX[j] = glm::vec4(x, -glm::dot(x, centre));
+    pc.lobeY[j] = glm::vec4(y, -glm::dot(y, centre));
+    pc.lobeZ[j] = glm::vec4(z, -glm::dot(z, centre));
+  }
+  const uint32_t layers = uint32_t(std::max<size_t>(lobeOfLayer.size(), 1));
+  pc.extent = glm::vec4(radius, radius, 2.0f * radius / float(size), float(size));
+  pc.count = glm::uvec4(uint32_t(lobeOfLayer.size()), size, 0u, 0u);
+  lobeModel_ = fibers.modelVersion();
+  lobeInputs_ = inputsVersion_;
+
+  if (!shadowProgram_)
+    shadowProgram_ = Program(buildProgram({"shaders/shadow_map.vert.glsl", "shaders/shadow_map.frag.glsl"}, defines_));
+  if (!shadowVao_) shadowVao_ = VertexArray::create();
+  if (!shadowFbo_) shadowFbo_ = Framebuffer::create();
+  if (lobeSize_ != size || lobeLayers_ != layers || !lobeDepth_) {
+    GLuint tex = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &tex);
+    lobeDepth_ = Texture(tex);
+    glTextureStorage3D(tex, 1, GL_DEPTH_COMPONENT32F, GLsizei(size), GLsizei(size), GLsizei(layers));
+    lobeTexels_ = makeBuffer(size_t(size) * size * layers * sizeof(float), nullptr);
+    lobeSize_ = size;
+  }
+  lobeLayers_ = layers;
+  // The shadow map's depth pass, four lobes per ShadowMapParams (its UBO's
+  // light count), drawn into the lobe layers.
+  Buffer groupUbo = makeBuffer(sizeof(ShadowMapParams), nullptr);
+  GLint oldViewport[4];
+  glGetIntegerv(GL_VIEWPORT, oldViewport);
+  glNamedFramebufferDrawBuffer(shadowFbo_.id(), GL_NONE);
+  glNamedFramebufferReadBuffer(shadowFbo_.id(), GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, shadowFbo_.id());
+  glViewport(0, 0, GLsizei(size), GLsizei(size));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(shadowProgram_.id());
+  fibers.bindYarn();
+  glBindVertexArray(shadowVao_.id());
+  const GLint lightLoc = glGetUniformLocation(shadowProgram_.id(), "lightIndex");
+  for (uint32_t layer = 0; layer < layers; ++layer) {
+    glNamedFramebufferTextureLayer(shadowFbo_.id(), GL_DEPTH_ATTACHMENT, lobeDepth_.id(), 0, GLint(layer));
+    glClear(GL_DEPTH_BUFFER_BIT);
+    if (layer >= lobeOfLayer.size()) continue;
+    const int j = lobeOfLayer[layer];
+    ShadowMapParams m{};
+    m.lightX[0] = pc.lobeX[j];
+    m.lightY[0] = pc.lobeY[j];
+    m.lightZ[0] = pc.lobeZ[j];
+    m.extent = pc.extent;
+    m.tube = glm::vec4(w, inputs_.density.plyRadius, FT_SHADOW_MAP_BIAS_TEXELS, 0.0f);
+    m.count = glm::uvec4(1u, size, 0u, 0u);
+    groupUbo.update(&m, sizeof(m));
+    glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, groupUbo.id());
+    glProgramUniform1i(shadowProgram_.id(), lightLoc, 0);
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(fibers.segmentCount() * FT_SHADOW_MAP_SUBSEGMENTS * 6));
+  }
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDisable(GL_DEPTH_TEST);
+  glViewport(oldViewport[0], oldViewport[1], oldViewport[2], oldViewport[3]);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, lobeTexels_.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(lobeDepth_.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(size_t(size) * size * layers * sizeof(float)),
+                    nullptr);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  if (shadowUbo_) glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, shadowUbo_.id());
+  uploadPcss();
+}
+
+std::vector<float> FiberRenderer::readLobeShadowMaps() const {
+  if (lobeLayers_ == 0) throw std::logic_error("FiberRenderer: readLobeShadowMaps() before drawLobeShadowMaps()");
+  std::vector<float> out(size_t(lobeSize_) * lobeSize_ * lobeLayers_);
+  glGetNamedBufferSubData(lobeTexels_.id(), 0, GLsizeiptr(out.size() * sizeof(float)), out.data());
+  return out;
+}
+
+std::vector<float> FiberRenderer::pcssLookup(std::span<const glm::vec4> requests, bool lobes) {
+  if (lobes ? lobeLayers_ == 0 : !shadowTexels_)
+    throw std::logic_error("FiberRenderer: pcssLookup() before the maps it reads are drawn");
+  if (!pcssLookupProgram_) pcssLookupProgram_ = Program(buildProgram({"shaders/pcss_lookup.comp.glsl"}, defines_));
+  uploadPcss();
+  const Buffer in = makeBuffer(requests.size() * sizeof(glm::vec4), requests.data());
+  const Buffer out = makeBuffer(requests.size() * sizeof(float), nullptr);
+  if (shadowUbo_) glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, shadowUbo_.id());
+  if (shadowTexels_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SHADOW_MAP, shadowTexels_.id());
+  else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SHADOW_MAP, lobeTexels_.id());  // unread
+  if (!shadowUbo_) glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, pcssUbo_.id());  // unread (≥ its size)
+  glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_PCSS, pcssUbo_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PCSS_LOBE_MAPS, lobeTexels_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PCSS_REQUESTS, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PCSS_RESULTS, out.id());
+  setUniform(pcssLookupProgram_.id(), "lobes", lobes ? 1u : 0u);
+  dispatchFlat(pcssLookupProgram_.id(), requests.size(), FT_WG_PCSS, maxGroupsY_, "pcss_lookup");
+  std::vector<float> result(requests.size());
+  if (!result.empty()) glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(result.size() * sizeof(float)), result.data());
+  return result;
+}
+
 void FiberRenderer::bindShading() const {
   glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADING, shadingUbo_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_AMBIENT_TABLE, ambientTable_.id());
@@ -277,6 +426,10 @@ void FiberRenderer::bindShading() const {
   if (shadowTexels_) {  // yarn shadow map (drawShadowMap)
     glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_SHADOW_MAP, shadowUbo_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SHADOW_MAP, shadowTexels_.id());
+  }
+  if (pcssUbo_) {  // soft shadows (common/pcss.h): the cones, the lobe maps (a 16-byte buffer without)
+    glBindBufferBase(GL_UNIFORM_BUFFER, FT_UBO_PCSS, pcssUbo_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PCSS_LOBE_MAPS, lobeTexels_.id());
   }
 }
 
@@ -370,14 +523,20 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   double building = 0;
   const bool ds = (inputs_.params.flags.w & FT_APPEARANCE_DUAL_SCATTERING) != 0u;
   const bool env = (inputs_.params.flags.w & FT_APPEARANCE_ENVIRONMENT) != 0u;
+  // Soft shadows or lobe maps: the PCSS variant of the shaded pass.
+  const bool pcss = (inputs_.params.flags.w & FT_APPEARANCE_SOFT_SHADOWS) != 0u || inputs_.lobeShadowEnvironment.has_value();
   const GLuint prog = program(fibers, path,
                               ds ? (env ? StripPass::ShadedDualScatteringEnvironment : StripPass::ShadedDualScattering)
-                                 : (env ? StripPass::ShadedEnvironment : StripPass::Shaded));
+                                 : (env ? StripPass::ShadedEnvironment : StripPass::Shaded),
+                              pcss);
   phase(building);  // a program's first build is not a phase of the frame
   if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u &&
       ((shadowModel_ != fibers.modelVersion() && !faultShadowMapStale_) || shadowInputs_ != inputsVersion_ ||
        !shadowTexels_))
     drawShadowMap(fibers);
+  if (inputs_.lobeShadowEnvironment &&
+      (lobeModel_ != fibers.modelVersion() || lobeInputs_ != inputsVersion_ || lobeLayers_ == 0))
+    drawLobeShadowMaps(fibers, *inputs_.lobeShadowEnvironment, inputs_.lobeShadowMapSize);
   if (timings) phase(timings->shadowMapMs);
   fibers.prepareDraw(path);
   if (timings) phase(timings->generateMs);

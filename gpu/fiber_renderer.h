@@ -15,6 +15,8 @@
 
 #include "common/fiber_vertex.h"
 #include "common/occlusion_cull.h"
+#include "common/pcss.h"
+#include "common/srbf.h"
 #include "gpu/fiber_gpu.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_objects.h"
@@ -93,6 +95,23 @@ class FiberRenderer {
   const ShadowMapParams& shadowMapParams() const { return shadowParams_; }
   std::vector<float> readShadowMap() const;
 
+  // Soft yarn shadows by PCSS (001 §4.5 eq. 17, common/pcss.h,
+  // docs/soft-shadows.md). The SRBF lobes' maps: one yarn-level depth pass
+  // (the shadow map's tubes and box, orthographic) from each lobe axis μ_j
+  // whose lobe holds at least FT_PCSS_LOBE_MIN_SHARE of the environment's
+  // energy, `size`² texels per layer; the other lobes get no map (T̃_j = 1).
+  // draw() calls it when shading().lobeShadowEnvironment is set, and redraws
+  // only when the inputs or the model changed (as the light maps); the
+  // harness calls it directly. pcssParams() then describes the lobe layers
+  // and readLobeShadowMaps() returns them (float[layers][N][N]).
+  void drawLobeShadowMaps(FiberGpu& fibers, const SrbfEnvironment& env, uint32_t size);
+  const PcssParams& pcssParams() const { return pcssParams_; }
+  std::vector<float> readLobeShadowMaps() const;
+  // The GPU's PCSS T̃ at points (pcss_lookup.comp.glsl, the frame's functions):
+  // request (p, i) with i a light of the shadow map (lobes false; tan α from
+  // shading().lightTanAlpha) or a lobe j of the lobe maps (lobes true).
+  std::vector<float> pcssLookup(std::span<const glm::vec4> requests, bool lobes);
+
   // Unshaded RGBA8 previews (harness thumbnails, `render --preview`): the
   // path's own fibers, or an arbitrary vertex stream in canonical strip order
   // (e.g. the CPU reference's) drawn as the compute path draws its buffers.
@@ -115,7 +134,9 @@ class FiberRenderer {
     ShadedEnvironment,
     ShadedDualScatteringEnvironment
   };
-  GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded);
+  // pcss: the shaded passes with FT_FRAME_PCSS (soft shadows, the lobe maps).
+  GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded, bool pcss = false);
+  void uploadPcss();
   void bindShading() const;
   // The occluder pass and its depth pyramid into occlusionTexels_; binds the
   // pyramid for the shaded pass.
@@ -123,7 +144,7 @@ class FiberRenderer {
   void bindOcclusion(bool enabled);
 
   std::vector<std::string> defines_;
-  Program programs_[2][6];  // [path][StripPass]
+  Program programs_[2][6][2];  // [path][StripPass][FT_FRAME_PCSS]
   // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
   bool occlusionCull_ = true;
   Program pyramidProgram_;
@@ -157,6 +178,15 @@ class FiberRenderer {
   bool faultShadowMapStale_ = false;
   bool faultFlyawayNoDepthTest_ = false;  // planted: the flyaway pass without the depth test
   uint32_t shadowSize_ = 0, shadowLayers_ = 0;
+  // Soft shadows (common/pcss.h): the lobe maps' depth array and its SSBO
+  // copy, PcssParams, the GPU lookup; what the lobe maps were drawn from.
+  Texture lobeDepth_;
+  Buffer pcssUbo_, lobeTexels_;
+  PcssParams pcssParams_{};
+  Program pcssLookupProgram_;
+  uint64_t lobeModel_ = 0, lobeInputs_ = 0;
+  uint32_t lobeSize_ = 0, lobeLayers_ = 0;
+  int maxGroupsY_ = 65535;
   ShadingInputs inputs_;
   std::unique_ptr<struct MultisampleTarget> shadedTarget_;  // kept between shaded frames
 };

@@ -53,6 +53,7 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     if (!request.fittedPreset) throw std::invalid_argument("bakeShadingInputsCpu: the shadow map needs the yarn preset");
     frameShadowMap(in, makeYarnDensity(*request.fittedPreset), request.appearance);
   }
+  frameSoftShadows(in, request.appearance);  // soft yarn shadows (001 §4.5, PCSS): drawn per frame, nothing to bake
   // Dual scattering (001 §4.1, §4.3): the CPU's own table (double quadrature),
   // the ξ textures of the bake file scaled to the model, or identity.
   frameDsCorrection(in, request.fittedPreset, request.appearance);
@@ -64,6 +65,8 @@ ShadingInputs bakeShadingInputsCpu(const ShadingBakeRequest& request) {
     in.srbfTableDims = request.appearance.environmentTableDims;
     in.srbfTable = bakeSrbfTableCpu(request.params.fabric, in.srbfTableDims).asFloat();
     in.params.flags.w |= FT_APPEARANCE_ENVIRONMENT;
+    // 001 eq. 17's T̃^Yarn_j: with soft shadows, a PCSS shadow map per lobe.
+    if (request.appearance.softShadows) in.lobeShadowEnvironment = in.environment;
   }
   if (request.appearance.flyaways) {  // 001 §4.4 (common/flyaway.h)
     in.flyaway = frameFlyawayParams(request, "bakeShadingInputsCpu");

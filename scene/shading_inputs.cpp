@@ -50,6 +50,16 @@ void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const A
   in.params.flags.w |= FT_APPEARANCE_SHADOW_MAP;
 }
 
+void frameSoftShadows(ShadingInputs& in, const AppearanceOptions& o) {
+  if (!o.softShadows) return;
+  const float a = o.lightAngularRadius;
+  if (!std::isfinite(a) || a < 0.0f || a > 60.0f * 3.14159265f / 180.0f)
+    throw InputError(fmt::format("--light-angular-radius: {} degrees must be in [0, 60]", a * 180.0f / 3.14159265f));
+  if (!o.shadowMap) throw InputError("--soft-shadows filters the yarn shadow map: it cannot go with --no-shadow-map");
+  in.params.flags.w |= FT_APPEARANCE_SOFT_SHADOWS;
+  in.lightTanAlpha = glm::vec4(std::tan(a));
+}
+
 // Below this coverage a texel of a ξ bake is not applied (frameDsCorrection).
 constexpr float kFrameXiMinCoverage = 0.5f;
 
@@ -171,6 +181,16 @@ void checkShadingInputs(const ShadingInputs& inputs) {
               inputs.aoParams.halfWidth > 0.0f))
     throw std::invalid_argument(fmt::format("shading inputs: AO cubic ({}, {}, {}, {}) or half width {}", c.x, c.y,
                                             c.z, c.w, inputs.aoParams.halfWidth));
+  if ((inputs.params.flags.w & FT_APPEARANCE_SOFT_SHADOWS) != 0u) {
+    if ((inputs.params.flags.w & FT_APPEARANCE_SHADOW_MAP) == 0u)
+      throw std::invalid_argument("shading inputs: soft shadows without the shadow map");
+    for (int i = 0; i < 4; ++i)
+      if (!std::isfinite(inputs.lightTanAlpha[i]) || inputs.lightTanAlpha[i] < 0.0f)
+        throw std::invalid_argument(fmt::format("shading inputs: tan α of light {} is {}", i, inputs.lightTanAlpha[i]));
+  }
+  if (inputs.lobeShadowEnvironment &&
+      (inputs.lobeShadowMapSize < 16 || inputs.lobeShadowMapSize > 8192))
+    throw std::invalid_argument(fmt::format("shading inputs: lobe shadow map size {}", inputs.lobeShadowMapSize));
   if ((inputs.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) {
     if (inputs.shadowMapSize < 16 || inputs.shadowMapSize > 8192)
       throw std::invalid_argument(fmt::format("shading inputs: shadow map size {}", inputs.shadowMapSize));

@@ -19,6 +19,7 @@
 #include "common/ds_correction.h"
 #include "common/dual_scattering.h"
 #include "common/fiber_shading.h"
+#include "common/pcss.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
@@ -78,6 +79,13 @@ struct AppearanceOptions {
   // Embree ground truth has no flyaways to compare with.
   bool flyaways = false;
   FlyawaySettings flyawaySettings{};
+  // 001 §4.5 (eq. 17's T̃^Yarn, Fernando 2005): soft yarn shadows by PCSS on
+  // the shadow map of each directional light, seen as a cone of directions
+  // of angular radius lightAngularRadius (radians, [0, 60°]; 0.1 ≈ the
+  // 5.7° of a small window). Needs shadowMap. Off by default: every picture
+  // without it stays bit-identical (docs/soft-shadows.md).
+  bool softShadows = false;
+  float lightAngularRadius = 0.1f;
 
   static AppearanceOptions none() {
     AppearanceOptions o;
@@ -141,6 +149,14 @@ struct ShadingInputs {
   // curves and bake); empty when off.
   FlyawayParams flyaway{};
   std::vector<uint32_t> flyawayTexels;
+  // ---- soft yarn shadows (001 §4.5, common/pcss.h) ----
+  // tan α of each directional light's cone; used when FT_APPEARANCE_SOFT_SHADOWS is set.
+  glm::vec4 lightTanAlpha{0.0f};
+  // The SRBF environment whose lobes get shadow maps for T̃^Yarn_j (eq. 17):
+  // FiberRenderer draws them when this is set (the environment's bake sets
+  // it), lobeShadowMapSize² texels per lobe.
+  std::optional<SrbfEnvironment> lobeShadowEnvironment;
+  uint32_t lobeShadowMapSize = FT_PCSS_LOBE_DEFAULT_SIZE;
 };
 
 // What the bakes need of the frame's yarn besides the shading parameters:
@@ -168,6 +184,10 @@ CoreTextureInput frameCoreTextureInput(const ShadingBakeRequest& request, const 
 // Sets the shadow-map members of `in` for `options` (size in [16, 8192],
 // InputError naming --shadow-map-size otherwise): one line in each bake.
 void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const AppearanceOptions& options);
+// Sets the soft-shadow members of `in` for `options` (InputError naming
+// --light-angular-radius outside [0, 60°] or --soft-shadows without the
+// shadow map): one line in each bake, after frameShadowMap.
+void frameSoftShadows(ShadingInputs& in, const AppearanceOptions& options);
 
 // Sets the ξ members of `in` and the DS bits of in.params.flags.w for
 // options.dualScattering (the caller bakes in.dsTable): the file of

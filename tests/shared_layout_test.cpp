@@ -20,6 +20,7 @@
 #include "common/knit_stitch.h"
 #include "common/occlusion_cull.h"
 #include "common/segment_visibility.h"
+#include "common/pcss.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
 #include "common/view_params.h"
@@ -87,6 +88,7 @@ namespace {
   X(width) X(height) X(maxPerSet) X(patterns) X(period) X(halfWidth) X(bodyRadius) X(lineHalfWidth) X(zeMu) X(zeSigma) \
   X(r0Mu) X(r0Sigma) X(reMu) X(reSigma) X(peMu) X(peSigma) X(rootOffset) X(alpha) X(noise) X(zReach) \
   X(margin) X(poissonThresholdB) X(poissonThresholdI) X(chunksB) X(chunksI) X(seed) X(pad0) X(pad1)
+#define FT_PCSS_PARAMS_MEMBERS(X) X(lightTanAlpha) X(lobeX) X(lobeY) X(lobeZ) X(lobeCone) X(extent) X(count)
 // clang-format on
 
 struct Member {
@@ -147,6 +149,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(SrbfEnvironment, FT_SRBF_ENVIRONMENT_MEMBERS, "SrbfBlock", "srbf", FT_UBO_SRBF),
       FT_UNIFORM_CASE(FlyawayParams, FT_FLYAWAY_PARAMS_MEMBERS, "FlyawayBlock", "fly", FT_UBO_FLYAWAY),
       FT_UNIFORM_CASE(SvfParams, FT_SVF_PARAMS_MEMBERS, "SvfBlock", "svf", FT_UBO_SVF),
+      FT_UNIFORM_CASE(PcssParams, FT_PCSS_PARAMS_MEMBERS, "PcssBlock", "pcss", FT_UBO_PCSS),
   };
 }
 

@@ -13,6 +13,7 @@
 #include "common/fiber_shading.h"
 #include "common/flyaway.h"
 #include "common/lod.h"
+#include "common/pcss.h"
 #include "common/segment_visibility.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"

@@ -49,6 +49,23 @@ layout(std430, binding = FT_SSBO_AO_TEXTURE) readonly buffer AoTexture { float a
 // Yarn shadow map (000 §4.1 last paragraph): FiberRenderer::drawShadowMap.
 layout(std140, binding = FT_UBO_SHADOW_MAP) uniform ShadowMapBlock { ShadowMapParams shadowMap; };
 layout(std430, binding = FT_SSBO_SHADOW_MAP) readonly buffer ShadowMapTexels { float shadowMapTexels[]; };
+#ifdef FT_FRAME_PCSS
+// Soft yarn shadows by PCSS (001 §4.5 eq. 17, common/pcss.h): the lights'
+// cones and the SRBF lobes' maps (FiberRenderer::drawLobeShadowMaps).
+#include "common/pcss.h"
+layout(std140, binding = FT_UBO_PCSS) uniform PcssBlock { PcssParams pcss; };
+layout(std430, binding = FT_SSBO_PCSS_LOBE_MAPS) readonly buffer PcssLobeTexels { float pcssLobeTexels[]; };
+float ftPcssFetch(int source, uint i) { return source == FT_PCSS_SOURCE_LOBES ? pcssLobeTexels[i] : shadowMapTexels[i]; }
+#endif
+// T̃^Yarn_j of 001 eq. 17: the yarn-level soft shadow of SRBF lobe j at p, by
+// PCSS on lobe j's map; 1 in a frame without lobe maps (no FT_FRAME_PCSS).
+float softLobeVisibility(int j, vec3 p) {
+#ifdef FT_FRAME_PCSS
+  return ftPcssLobeVisibility(pcss, j, p);
+#else
+  return 1.0;
+#endif
+}
 // Dual scattering (001 §4.1 eq. 8, §4.3 eq. 11): the DS table of the fabric,
 // the ξ layout (scaled to the model) and the four ξ textures; identity
 // textures without a ξ bake (scene/shading_inputs.h).
@@ -439,6 +456,11 @@ vec3 shadeFiber(FiberHit h) {
 #ifdef FT_FAULT_FRAME_AO_DIRECT
     visibility *= ambientVisibility;  // AO on the direct term too (000 Fig. 12d: it scales the ambient only)
 #endif
+#ifdef FT_FRAME_PCSS
+    // Soft shadows: PCSS on the same map, the light a cone of radius α (common/pcss.h).
+    if ((shading.flags.w & FT_APPEARANCE_SOFT_SHADOWS) != 0u) visibility *= ftPcssLightVisibility(shadowMap, pcss, i, h.position);
+    else
+#endif
     if ((shading.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u) visibility *= shadowMapVisibility(i, h.position);
 #ifdef FT_FRAME_DUAL_SCATTERING
     radiance += dualScatteringLight(i, h, c, v) * visibility;
@@ -452,11 +474,13 @@ vec3 shadeFiber(FiberHit h) {
 #ifdef FT_FRAME_ENVIRONMENT
   // The environment replaces the uniform ambient (docs/srbf-lighting.md):
   // T̃_j = the self-shadow T along the lobe's axis (eq. 17's fiber-level
-  // shadowing at ω_d := μ_j; PCSS's T̃^Yarn would multiply in here), the DC
-  // term's visibility the AO, as the uniform ambient's.
+  // shadowing at ω_d := μ_j) times, with --soft-shadows, T̃^Yarn_j by PCSS on
+  // lobe j's map (1 without lobe maps); the DC term's visibility the AO, as
+  // the uniform ambient's.
   float lobeT[FT_SRBF_LOBES];
   for (int j = 0; j < FT_SRBF_LOBES; ++j)
-    lobeT[j] = selfShadowT ? selfShadowTransmittance(c, environment.lobes[j].axisLambda.xyz) : 1.0;
+    lobeT[j] = (selfShadowT ? selfShadowTransmittance(c, environment.lobes[j].axisLambda.xyz) : 1.0) *
+               softLobeVisibility(j, h.position);
   vec3 wo = v;
 #ifdef FT_FAULT_FRAME_ENV_VIEW_REVERSED
   wo = -v;  // the eye ray's propagation taken for ω_o

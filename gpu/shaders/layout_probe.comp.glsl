@@ -17,6 +17,8 @@
 #include "common/srbf.h"
 #include "common/flyaway.h"
 #include "common/segment_visibility.h"
+#include "common/pcss.h"
+float ftPcssFetch(int source, uint i) { return 0.0; }  // the lookups are not run here
 
 layout(local_size_x = 1) in;
 
@@ -51,6 +53,7 @@ layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyr
 layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; };
 layout(std140, binding = FT_UBO_FLYAWAY) uniform FlyawayBlock { FlyawayParams fly; };
 layout(std140, binding = FT_UBO_SVF) uniform SvfBlock { SvfParams svf; };
+layout(std140, binding = FT_UBO_PCSS) uniform PcssBlock { PcssParams pcss; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -91,4 +94,7 @@ void main() {
           0xFFFFFFFFu &&
       svf.lambda + svf.pad0 + svf.pad1 + svf.pad2 == -12345.0)
     aoCopy.seed = ao.seed;
+  float pcssSum = pcss.lightTanAlpha.x + pcss.extent.x + float(pcss.count.x);  // every member read
+  for (int j = 0; j < FT_PCSS_MAX_LOBES; ++j) pcssSum += pcss.lobeX[j].x + pcss.lobeY[j].x + pcss.lobeZ[j].x + pcss.lobeCone[j].x;
+  if (pcssSum == -12345.0) aoCopy.seed = ao.seed;
 }
