@@ -20,7 +20,11 @@
 //     default (CI sizes) against the all-fiber reference of the same frame
 //     (every fiber of the preset explicit, no core, no LoD) with shadow rays,
 //     as the shading/fidelity rows: informational, the report shows the
-//     real-time image, the reference and the error map.
+//     real-time image, the reference and the error map. Row "environment":
+//     the patch under the procedural sky alone (bit for bit data/env/sky.exr),
+//     the frame with the defaults + `--env --soft-shadows` (the 16-SRBF + DC
+//     fit through the I_M table, T̃_j with PCSS lobe maps), the reference
+//     lit by the map itself, importance-sampled with MIS, shadow rays.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -41,6 +45,9 @@
 #include "reference/fiber_reference.h"
 #include "reference/fiber_trace.h"
 #include "reference/knit_reference.h"
+#include "reference/environment_sampling.h"
+#include "reference/srbf_fit.h"
+#include "reference/srbf_table.h"
 #include "reference/shading_inputs.h"
 #include "scene/lighting.h"
 #include "scene/yarn_preset.h"
@@ -222,26 +229,46 @@ AppearanceOptions ciDefaults() {
   return a;
 }
 
+enum class KnitFidelity { None, Defaults, Environment };
+const char* fidelityName(KnitFidelity f) {
+  return f == KnitFidelity::None ? "none" : f == KnitFidelity::Defaults ? "defaults" : "environment";
+}
+
+std::shared_ptr<const ImageRgbaF> knitSky() {
+  static const std::shared_ptr<const ImageRgbaF> sky = std::make_shared<ImageRgbaF>(makeProceduralSky(256, 128));
+  return sky;
+}
+
 struct FidelityTruth {
   TraceResult truth;
   size_t segments = 0;
   uint32_t fibersPerPly = 0;
 };
 
-CaseResult runFidelity(ValidationContext& ctx, bool approximations, const std::string& name) {
+CaseResult runFidelity(ValidationContext& ctx, KnitFidelity variant, const std::string& name) {
+  const bool approximations = variant != KnitFidelity::None;
+  const bool env = variant == KnitFidelity::Environment;
   CaseResult r;
   r.name = name;
   r.group = "knit";
   r.path = "compute";
   const KnitFrameInputs& in = knitFrame(ctx);
-  const ShadingParams s = makeShadingParams(frontLight());
+  Lighting lighting = frontLight();
+  AppearanceOptions appearance = approximations ? ciDefaults() : AppearanceOptions::none();
+  if (env) {  // the sky alone
+    lighting.lights.clear();
+    lighting.ambient = glm::vec3(0.0f);
+    appearance.environmentImage = knitSky();
+    appearance.environmentTableDims = kSrbfTableCiDims;
+    appearance.softShadows = true;
+  }
+  const ShadingParams s = makeShadingParams(lighting);
   const auto t0 = Clock::now();
-  const ImageRgbaF img =
-      renderKnit(ctx, in, in.camera, s, approximations ? ciDefaults() : AppearanceOptions::none(), false);
+  const ImageRgbaF img = renderKnit(ctx, in, in.camera, s, appearance, false);
   r.gpuMilliseconds = msSince(t0);
   const auto t1 = Clock::now();
   // One reference for both rows: the twin's buffers (rest lengths computed here), every fiber explicit.
-  const FidelityTruth& ft = ctx.cached(CacheKey<FidelityTruth>{"knit-appearance/fidelity-truth"}, [&] {
+  const FidelityTruth& ft = ctx.cached(CacheKey<FidelityTruth>{env ? "knit-appearance/fidelity-truth-env" : "knit-appearance/fidelity-truth"}, [&] {
     FidelityTruth f;
     FiberOptions all;
     all.seed = ctx.options().fiber.seed;
@@ -254,6 +281,11 @@ CaseResult runFidelity(ValidationContext& ctx, bool approximations, const std::s
     o.samplePositions = ctx.gpu<FiberRenderer>().samplePositions();
     o.samplesPerPixel = static_cast<int>(o.samplePositions.size());
     o.shadows = true;
+    std::unique_ptr<EnvironmentSampler> sampler;
+    if (env) {
+      sampler = std::make_unique<EnvironmentSampler>(*knitSky());
+      o.environment = sampler.get();
+    }
     f.truth = traceFibers(scene, in.camera, s,
                           bakeShadingInputsCpu({s, nullptr, AppearanceOptions::none()}).ambientTable, o);
     f.segments = scene.segmentCount();
@@ -288,13 +320,16 @@ CaseResult runFidelity(ValidationContext& ctx, bool approximations, const std::s
     r.images.push_back(ctx.saveImage(toRgba(img), name + "-gpu"));
     r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
     r.images.push_back(ctx.saveImage(flipImage(flipL), name + "-flip"));
-    r.imageCaptions = {approximations ? "GPU, the knit defaults (CI sizes)" : "GPU, no approximation of 000 §4",
+    r.imageCaptions = {env              ? "GPU, the knit defaults + --env sky --soft-shadows (CI sizes)"
+                       : approximations ? "GPU, the knit defaults (CI sizes)"
+                                        : "GPU, no approximation of 000 §4",
                        "all-fiber reference with shadow rays", "LDR-FLIP"};
   }
-  r.details = fmt::format("{}×{} stockinette stretched 1.4×, cotton1, cotton, front light, {}x{}, the knit camera; "
-                          "approximations: {}; reference: {} fibers per ply, {} curve segments, 4 spp, shadow rays",
-                          kRows, kCols, kWidth, kHeight, approximations ? "the defaults" : "none", ft.fibersPerPly,
-                          ft.segments);
+  r.details = fmt::format("{}×{} stockinette stretched 1.4×, cotton1, cotton, {}, {}x{}, the knit camera; "
+                          "approximations: {}; reference: {} fibers per ply, {} curve segments, 4 spp, shadow rays{}",
+                          kRows, kCols, env ? "the procedural sky (data/env/sky.exr) alone" : "front light", kWidth,
+                          kHeight, env ? "the defaults, --env (CI table), --soft-shadows" : approximations ? "the defaults" : "none",
+                          ft.fibersPerPly, ft.segments, env ? ", the map sampled directly (MIS)" : "");
   r.finish();
   return r;
 }
@@ -308,9 +343,9 @@ void addKnitAppearanceCases(ValidationContext& ctx, std::vector<ValidationCase>&
     const std::string name = fmt::format("knit/appearance/twin/{}", tess ? "tessellation" : "compute");
     out.push_back({name, [=](ValidationContext& c) { return runTwin(c, tess, name); }});
   }
-  for (bool approximations : {false, true}) {
-    const std::string name = fmt::format("knit/appearance/fidelity/{}", approximations ? "defaults" : "none");
-    out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, approximations, name); }});
+  for (KnitFidelity f : {KnitFidelity::None, KnitFidelity::Defaults, KnitFidelity::Environment}) {
+    const std::string name = fmt::format("knit/appearance/fidelity/{}", fidelityName(f));
+    out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, f, name); }});
   }
 }
 
