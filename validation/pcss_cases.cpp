@@ -35,6 +35,7 @@
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_preset.h"
 #include "validation/harness.h"
+#include "validation/shadow_scene.h"
 
 namespace ft {
 namespace {
@@ -331,17 +332,7 @@ CaseResult runEmbree(ValidationContext& ctx) {
   r.name = "pcss/embree";
   r.group = "pcss";
   r.path = "pcss";
-  struct Scene {
-    YarnBuffers buffers;
-    FittedFibers fitted;
-  };
-  const Scene& scene = ctx.cached(CacheKey<Scene>{"pcss/default-scene"}, [&] {
-    Scene sc;
-    const YarnModel model = makeDefaultScene();
-    sc.buffers = buildYarnBuffers(model);
-    sc.fitted = fitFibers(findYarnPreset("cotton1"), model, ctx.options().fiber);
-    return sc;
-  });
+  const ShadowCaseScene& scene = shadowCaseScene(ctx);
   const FittedFibers& fitted = scene.fitted;
   const float w = float(reachW(fitted.fit.preset));
   const std::vector<glm::vec3> lights = {glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)),
@@ -364,9 +355,7 @@ CaseResult runEmbree(ValidationContext& ctx) {
   const auto t0 = Clock::now();
   // The map must resolve the tubes (as shadowmap/embree): texel ≤ W/4.
   FiberRenderer* renderer = &drawLightMaps(ctx, scene.buffers, fitted, fitted.fit.preset, lights, alphas, FT_SHADOW_MAP_CI_SIZE);
-  uint32_t size = FT_SHADOW_MAP_CI_SIZE;
-  const double side = double(renderer->shadowMapParams().extent.z) * FT_SHADOW_MAP_CI_SIZE;
-  while (size < 4096u && side / size > w / 4.0) size *= 2u;
+  const uint32_t size = tubeResolvingMapSize(FT_SHADOW_MAP_CI_SIZE, renderer->shadowMapParams().extent.z, w);
   if (size != FT_SHADOW_MAP_CI_SIZE)
     renderer = &drawLightMaps(ctx, scene.buffers, fitted, fitted.fit.preset, lights, alphas, size);
   renderer->drawLobeShadowMaps(ctx.gpu<FiberGpu>(), env, size);
@@ -378,19 +367,7 @@ CaseResult runEmbree(ValidationContext& ctx) {
 
   const ShadowTubes tubes = shadowTubes(scene.buffers, w);
   const ShadowMapReference reference(tubes);
-  std::mt19937 rng(77u);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  std::vector<glm::vec3> points;
-  const size_t n = 300;
-  while (points.size() < n && !tubes.lines.empty()) {
-    const auto& line = tubes.lines[std::min(size_t(u01(rng) * tubes.lines.size()), tubes.lines.size() - 1)];
-    const size_t k = std::min(size_t(u01(rng) * (line.size() - 1)), line.size() - 2);
-    const glm::vec3 centre = glm::mix(line[k], line[k + 1], u01(rng));
-    glm::vec3 o;
-    do o = glm::vec3(u01(rng), u01(rng), u01(rng)) * 2.0f - 1.0f;
-    while (glm::dot(o, o) > 1.0f);
-    points.push_back(centre + 0.95f * w * o);
-  }
+  const std::vector<glm::vec3> points = pointsInTubes(tubes, w, 300, 77u);
   Cross cross;
   double cpuMs = 0.0, worstMean = 0.0, worstBias = 0.0, worstMax = 0.0, worstSg = 0.0;
   size_t partial = 0, unmappedNotOne = 0;

@@ -40,6 +40,7 @@
 #include "scene/yarn_preset.h"
 #include "scene/yarn_radius.h"
 #include "validation/harness.h"
+#include "validation/shadow_scene.h"
 
 namespace ft {
 namespace {
@@ -316,17 +317,7 @@ CaseResult runEmbree(ValidationContext& ctx) {
   // subset or the built-in scene"): on whole models of tightly packed yarns
   // the bias shows (docs/shadow-map.md: fiber.bcc 1.96 %, all map-lit /
   // Embree-shadowed), which this case is not meant to gate.
-  struct Scene {
-    YarnBuffers buffers;
-    FittedFibers fitted;
-  };
-  const Scene& scene = ctx.cached(CacheKey<Scene>{"shadowmap/default-scene"}, [&] {
-    Scene sc;
-    const YarnModel model = makeDefaultScene();
-    sc.buffers = buildYarnBuffers(model);
-    sc.fitted = fitFibers(findYarnPreset("cotton1"), model, ctx.options().fiber);
-    return sc;
-  });
+  const ShadowCaseScene& scene = shadowCaseScene(ctx);
   const FittedFibers& fitted = scene.fitted;
   const float w = static_cast<float>(reachW(fitted.fit.preset));
   const std::vector<glm::vec3> lights = {glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)),
@@ -336,26 +327,12 @@ CaseResult runEmbree(ValidationContext& ctx) {
   // the built-in scene; a whole-model map of fiber.bcc or the glove needs
   // 2048²), at most 4096².
   MapRun map = drawMap(ctx, scene.buffers, fitted, fitted.fit.preset, lights, FT_SHADOW_MAP_CI_SIZE);
-  uint32_t size = FT_SHADOW_MAP_CI_SIZE;
-  const double side = double(map.params.extent.z) * FT_SHADOW_MAP_CI_SIZE;
-  while (size < 4096u && side / size > w / 4.0) size *= 2u;
+  const uint32_t size = tubeResolvingMapSize(FT_SHADOW_MAP_CI_SIZE, map.params.extent.z, w);
   if (size != FT_SHADOW_MAP_CI_SIZE) map = drawMap(ctx, scene.buffers, fitted, fitted.fit.preset, lights, size);
   const auto t1 = Clock::now();
   const ShadowTubes tubes = shadowTubes(scene.buffers, w);
   const ShadowMapReference reference(tubes);
-  std::mt19937 rng(99u);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  std::vector<glm::vec3> points;
-  const size_t n = 8000;
-  while (points.size() < n && !tubes.lines.empty()) {
-    const auto& line = tubes.lines[std::min(size_t(u01(rng) * tubes.lines.size()), tubes.lines.size() - 1)];
-    const size_t k = std::min(size_t(u01(rng) * (line.size() - 1)), line.size() - 2);
-    const glm::vec3 c = glm::mix(line[k], line[k + 1], u01(rng));
-    glm::vec3 o;
-    do o = glm::vec3(u01(rng), u01(rng), u01(rng)) * 2.0f - 1.0f;
-    while (glm::dot(o, o) > 1.0f);
-    points.push_back(c + 0.95f * w * o);
-  }
+  const std::vector<glm::vec3> points = pointsInTubes(tubes, w, 8000, 99u);
   size_t compared = 0, mismatched = 0, band = 0, shadowed = 0;
   std::string first;
   const float texel = map.params.extent.z, reach = 1.5f * texel;
