@@ -143,6 +143,23 @@
 // (llvmpipe has 80 SSBO binding points, 0–79: 80–85 of this group's range are unusable there.)
 #define FT_WG_SVF 64
 
+// Fabric PRT of 004 beyond visibility (single scattering §5.2, multiple
+// scattering §4.2–4.3 and §5.3, exemplar volume §5.1). llvmpipe has only 80
+// SSBO bindings and 0–79 are nearly all named, so the harness evaluators of
+// every prt/* group share one request/result pair (each runs alone as its own
+// compute program), and each group's own data takes one of the last free slots.
+#define FT_SSBO_PRT_REQUESTS 39      // harness requests of the prt/* evaluators (layout per group)
+#define FT_SSBO_PRT_RESULTS 40       // their results
+#define FT_UBO_PRT_SS 20             // single scattering (common/prt_single_scattering.h)
+#define FT_SSBO_PRT_SS_TABLE 41      // its tables (𝒢(μ; λ) per BCSDF lobe)
+#define FT_UBO_PRT_MS 21             // multiple scattering (common/prt_multiple_scattering.h)
+#define FT_SSBO_PRT_MS_TRANSFER 62   // the IIRTF matrices A_C per cell
+#define FT_SSBO_PRT_MS_TABLES 63     // C_S and C_G
+#define FT_UBO_PRT_VOL 22            // exemplar volume (common/exemplar_volume.h)
+#define FT_SSBO_PRT_VOL_IDS 64       // the segment-id volume
+#define FT_SSBO_PRT_VOL_SEGMENTS 69  // the segment table (direction, midpoint, cell)
+// SSBO 73 is the last free slot below 80.
+
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u
 #define FT_BCSDF_LOBE_TT 2u
