@@ -142,6 +142,7 @@
 #define FT_SSBO_SVF_DECODE 79        // vec2[images][W·H]: (PCA-reconstructed SSDF, V^ssg)
 // (llvmpipe has 80 SSBO binding points, 0–79: 80–85 of this group's range are unusable there.)
 #define FT_WG_SVF 64
+#define FT_WG_PRT_VOL 64             // exemplar volume: voxels (build) and pixels (sampler) per work group
 
 // Fabric PRT of 004 beyond visibility (single scattering §5.2, multiple
 // scattering §4.2–4.3 and §5.3, exemplar volume §5.1). llvmpipe has only 80

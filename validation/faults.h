@@ -10,6 +10,7 @@
 #include "common/core_texture.h"
 #include "common/ds_correction.h"
 #include "common/dual_scattering.h"
+#include "common/exemplar_volume.h"
 #include "common/fiber_shading.h"
 #include "common/flyaway.h"
 #include "common/lod.h"

@@ -1,0 +1,274 @@
+// exemplar_volume.cpp — CPU reference of 004 §5.1 (reference/exemplar_volume.h).
+#include "reference/exemplar_volume.h"
+
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "scene/input_error.h"
+
+namespace ft {
+
+VolParams makeVolumeLayout(const Exemplar& block, int voxelsPerPeriod, int cellVoxels) {
+  if (block.segments.empty()) throw InputError("exemplar volume: the block has no segments");
+  if (!(block.period > 0.0f) || !std::isfinite(block.period))
+    throw InputError(fmt::format("exemplar volume: period {} (a finite number > 0)", block.period));
+  if (cellVoxels < 1 || cellVoxels > 64)
+    throw InputError(fmt::format("exemplar volume: {} voxels per candidate cell (1..64)", cellVoxels));
+  const float P = block.period;
+  float rMax = 0.0f, zLo = std::numeric_limits<float>::infinity(), zHi = -zLo;
+  for (size_t k = 0; k < block.segments.size(); ++k) {
+    const ExemplarSegment& s = block.segments[k];
+    const bool finite = std::isfinite(s.a.x) && std::isfinite(s.a.y) && std::isfinite(s.a.z) &&
+                        std::isfinite(s.b.x) && std::isfinite(s.b.y) && std::isfinite(s.b.z) &&
+                        std::isfinite(s.radius);
+    if (!finite || !(s.radius > 0.0f))
+      throw InputError(fmt::format("exemplar volume: segment {}: ({}, {}, {}) – ({}, {}, {}), radius {}: needs "
+                                   "finite endpoints and a radius > 0",
+                                   k, s.a.x, s.a.y, s.a.z, s.b.x, s.b.y, s.b.z, s.radius));
+    // The 8 translates by ±P are the only neighbours the build looks at.
+    for (const glm::vec3& e : {s.a, s.b})
+      if (e.x < -P + s.radius || e.x > 2.0f * P - s.radius || e.y < -P + s.radius || e.y > 2.0f * P - s.radius)
+        throw InputError(fmt::format("exemplar volume: segment {} reaches ({}, {}), beyond one period P = {} of "
+                                     "the block",
+                                     k, e.x, e.y, P));
+    rMax = std::max(rMax, s.radius);
+    zLo = std::min({zLo, s.a.z - s.radius, s.b.z - s.radius});
+    zHi = std::max({zHi, s.a.z + s.radius, s.b.z + s.radius});
+  }
+  const int n = voxelsPerPeriod > 0 ? voxelsPerPeriod : std::max(1, int(std::lround(P / (2.0f * rMax))));
+  const float h = P / float(n);
+  // One empty voxel below and above the fibers: samples there read "empty".
+  const float z0 = zLo - h;
+  const int nz = int(std::ceil((zHi - z0) / h)) + 1;
+  if (n > 512 || nz > 512)
+    throw InputError(fmt::format("exemplar volume: {} × {} × {} voxels (at most 512 a side): voxel size {} for "
+                                 "period {}",
+                                 n, n, nz, h, P));
+  VolParams p{};
+  p.origin = glm::vec4(0.0f, 0.0f, z0, h);
+  p.dims = glm::uvec4(uint32_t(n), uint32_t(n), uint32_t(nz), uint32_t(block.segments.size()));
+  const uint32_t B = uint32_t(cellVoxels);
+  p.grid = glm::uvec4((p.dims.x + B - 1) / B, (p.dims.y + B - 1) / B, (p.dims.z + B - 1) / B, B);
+  return p;
+}
+
+std::vector<VolSegment> volumeSegments(const Exemplar& block) {
+  std::vector<VolSegment> out;
+  out.reserve(block.segments.size());
+  for (const ExemplarSegment& s : block.segments)
+    out.push_back({glm::vec4(s.a, s.radius), glm::vec4(s.b, float(s.fiber))});
+  return out;
+}
+
+VolumeCandidates buildVolumeCandidates(const Exemplar& block, const VolParams& p) {
+  const glm::ivec3 n(p.dims.x, p.dims.y, p.dims.z), cells(p.grid.x, p.grid.y, p.grid.z);
+  const int B = int(p.grid.w);
+  const glm::vec3 o(p.origin);
+  const float h = p.origin.w;
+  std::vector<std::vector<uint32_t>> lists(size_t(cells.x) * cells.y * cells.z);
+  for (size_t k = 0; k < block.segments.size(); ++k) {
+    const ExemplarSegment& s = block.segments[k];
+    for (uint32_t c = 0; c < FT_VOL_COPIES; ++c) {
+      const glm::vec3 off = ftVolCopyOffset(c, block.period);
+      const glm::vec3 lo = glm::min(s.a, s.b) + off - s.radius, hi = glm::max(s.a, s.b) + off + s.radius;
+      // Voxels whose box the grown bounding box reaches, one voxel of slack
+      // each side (float), clipped to the volume.
+      glm::ivec3 v0 = glm::ivec3(glm::floor((lo - o) / h)) - 1, v1 = glm::ivec3(glm::floor((hi - o) / h)) + 1;
+      v0 = glm::max(v0, glm::ivec3(0));
+      v1 = glm::min(v1, n - 1);
+      if (v0.x > v1.x || v0.y > v1.y || v0.z > v1.z) continue;
+      const glm::ivec3 c0 = v0 / B, c1 = v1 / B;
+      for (int z = c0.z; z <= c1.z; ++z)
+        for (int y = c0.y; y <= c1.y; ++y)
+          for (int x = c0.x; x <= c1.x; ++x)
+            lists[(size_t(z) * cells.y + size_t(y)) * cells.x + size_t(x)].push_back(uint32_t(k) * FT_VOL_COPIES + c);
+    }
+  }
+  VolumeCandidates out;
+  out.start.reserve(lists.size() + 1);
+  for (const auto& l : lists) {
+    out.start.push_back(uint32_t(out.entries.size()));
+    out.entries.insert(out.entries.end(), l.begin(), l.end());
+    out.maxPerCell = std::max(out.maxPerCell, uint32_t(l.size()));
+  }
+  out.start.push_back(uint32_t(out.entries.size()));
+  return out;
+}
+
+ExemplarVolume buildExemplarVolumeCpu(const Exemplar& block, const VolParams& p, const VolumeCandidates& cand) {
+  ExemplarVolume vol;
+  vol.layout = p;
+  const size_t count = size_t(p.dims.x) * p.dims.y * p.dims.z;
+  if (cand.start.size() != size_t(p.grid.x) * p.grid.y * p.grid.z + 1)
+    throw std::invalid_argument("buildExemplarVolumeCpu: candidate lists of another layout");
+  vol.ids.assign(count, 0u);
+  vol.tieGap.assign(count, std::numeric_limits<float>::infinity());
+  const std::vector<VolSegment> segs = volumeSegments(block);
+  const float h = p.origin.w, P = ftVolPeriod(p);
+  const uint32_t B = p.grid.w;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const glm::ivec3 v = ftVolVoxelOfIndex(uint32_t(i), p.dims);
+      const glm::vec3 centre = ftVolVoxelCentre(v, p.origin);
+      const glm::vec3 lo = centre - 0.5f * h, hi = centre + 0.5f * h;
+      const size_t cell = (size_t(v.z) / B * p.grid.y + size_t(v.y) / B) * p.grid.x + size_t(v.x) / B;
+      uint32_t best = 0;
+      float bestKey = std::numeric_limits<float>::infinity(), secondKey = bestKey;
+      for (uint32_t e = cand.start[cell]; e < cand.start[cell + 1]; ++e) {
+        const uint32_t k = cand.entries[e] / FT_VOL_COPIES, c = cand.entries[e] % FT_VOL_COPIES;
+        const glm::vec3 off = ftVolCopyOffset(c, P);
+        const glm::vec3 a = glm::vec3(segs[k].a) + off, b = glm::vec3(segs[k].b) + off;
+        if (!ftVolSegmentTouchesBox(a, b, segs[k].a.w, lo, hi)) continue;
+        const float key = ftVolMidpointKey(centre, a, b);
+        if (best == k + 1) {
+          bestKey = std::min(bestKey, key);
+          continue;
+        }
+        if (key < bestKey || (key == bestKey && k + 1 < best)) {
+          if (best != 0) secondKey = bestKey;
+          best = k + 1;
+          bestKey = key;
+        } else {
+          secondKey = std::min(secondKey, key);
+        }
+      }
+      vol.ids[i] = best;
+      if (best != 0 && std::isfinite(secondKey))
+        vol.tieGap[i] = (std::sqrt(secondKey) - std::sqrt(bestKey)) / h;
+    }
+  });
+  return vol;
+}
+
+void setVolumeRays(VolParams& p, const VolCamera& cam, int width, int height, int samples) {
+  if (width < 1 || height < 1 || width > 8192 || height > 8192 || samples < 1 || samples > int(FT_VOL_MAX_SAMPLES))
+    throw std::invalid_argument(fmt::format("exemplar volume rays: {} × {} pixels, {} samples (1..{})", width,
+                                            height, samples, FT_VOL_MAX_SAMPLES));
+  const float len = glm::length(cam.direction);
+  if (!(len > 0.0f) || !std::isfinite(len)) throw std::invalid_argument("exemplar volume rays: camera direction");
+  const glm::vec3 f = cam.direction / len;
+  glm::vec3 right = glm::cross(f, cam.up);
+  if (!(glm::length(right) > 1e-6f)) throw std::invalid_argument("exemplar volume rays: camera up ∥ direction");
+  right = glm::normalize(right);
+  const glm::vec3 up = glm::cross(right, f);
+  p.ray = glm::uvec4(uint32_t(width), uint32_t(height), uint32_t(samples), 0u);
+  p.camPos = glm::vec4(cam.position, float(cam.type));
+  p.camRight = glm::vec4(right, cam.halfWidth);
+  p.camUp = glm::vec4(up, cam.halfHeight);
+  p.camDir = glm::vec4(f, 0.0f);
+}
+
+std::vector<VolHit> sampleVolumeCpu(const ExemplarVolume& vol, const VolParams& rays, std::vector<float>* faceDistance) {
+  VolParams p = vol.layout;
+  p.ray = rays.ray;
+  p.camPos = rays.camPos;
+  p.camRight = rays.camRight;
+  p.camUp = rays.camUp;
+  p.camDir = rays.camDir;
+  const uint32_t W = p.ray.x, H = p.ray.y, N = p.ray.z;
+  std::vector<VolHit> out(size_t(W) * H, VolHit{glm::vec3(0.0f), 0u});
+  if (faceDistance) faceDistance->assign(out.size(), std::numeric_limits<float>::infinity());
+  const float zLo = p.origin.z, zHi = p.origin.z + float(p.dims.z) * p.origin.w;
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, H), [&](const tbb::blocked_range<uint32_t>& rows) {
+    for (uint32_t y = rows.begin(); y != rows.end(); ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        const size_t pix = size_t(y) * W + x;
+        const glm::vec3 o = ftVolRayOrigin(p, x, y), d = ftVolRayDirection(p, x, y);
+        const glm::vec2 t = ftVolSlabInterval(o, d, zLo, zHi);
+        if (t.x > t.y) continue;
+        float face = std::numeric_limits<float>::infinity();
+        for (uint32_t i = 0; i < N; ++i) {
+          const float ti = ftVolSampleT(t.x, t.y, i, N);
+          const glm::vec3 q = o + ti * d;
+          face = std::min(face, ftVolFaceDistance(q, p.origin));
+          const int idx = ftVolSampleIndex(o, d, ti, p);
+          if (idx >= 0 && vol.ids[size_t(idx)] != 0u) {
+            out[pix] = VolHit{q, vol.ids[size_t(idx)]};
+            break;
+          }
+        }
+        if (faceDistance) (*faceDistance)[pix] = face;
+      }
+  });
+  return out;
+}
+
+struct VolumeTruth::Impl {
+  std::vector<glm::vec4> points;
+  std::vector<uint32_t> firstVertex;
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+VolumeTruth::VolumeTruth(std::span<const ExemplarSegment> segments) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  for (size_t k = 0; k < segments.size(); ++k) {
+    const ExemplarSegment& s = segments[k];
+    const bool finite = std::isfinite(s.a.x) && std::isfinite(s.a.y) && std::isfinite(s.a.z) &&
+                        std::isfinite(s.b.x) && std::isfinite(s.b.y) && std::isfinite(s.b.z) &&
+                        std::isfinite(s.radius);
+    if (!finite || !(s.radius > 0.0f) || glm::distance(s.a, s.b) <= 0.0f)
+      throw InputError(fmt::format("segment {}: ({}, {}, {}) – ({}, {}, {}), radius {}: needs finite distinct "
+                                   "endpoints and a radius > 0",
+                                   k, s.a.x, s.a.y, s.a.z, s.b.x, s.b.y, s.b.z, s.radius));
+    m.points.emplace_back(s.a, s.radius);
+    m.points.emplace_back(s.b, s.radius);
+    m.firstVertex.push_back(uint32_t(2 * k));
+  }
+  m.device = rtcNewDevice(nullptr);
+  if (!m.device) throw std::runtime_error("Embree: rtcNewDevice failed");
+  m.scene = rtcNewScene(m.device);
+  if (!segments.empty()) {
+    RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, m.points.data(), 0,
+                               sizeof(glm::vec4), m.points.size());
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, m.firstVertex.data(), 0,
+                               sizeof(uint32_t), m.firstVertex.size());
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(m.scene, geom);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(m.scene);
+  if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE)
+    throw std::runtime_error("Embree: building the exemplar volume's truth scene failed");
+}
+
+VolumeTruth::~VolumeTruth() = default;
+VolumeTruth::VolumeTruth(VolumeTruth&&) noexcept = default;
+VolumeTruth& VolumeTruth::operator=(VolumeTruth&&) noexcept = default;
+
+std::vector<VolHit> VolumeTruth::firstHits(const VolParams& p, float tFar) const {
+  const uint32_t W = p.ray.x, H = p.ray.y;
+  std::vector<VolHit> out(size_t(W) * H, VolHit{glm::vec3(0.0f), 0u});
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, H), [&](const tbb::blocked_range<uint32_t>& rows) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (uint32_t y = rows.begin(); y != rows.end(); ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        const glm::vec3 o = ftVolRayOrigin(p, x, y), d = ftVolRayDirection(p, x, y);
+        RTCRayHit rh{};
+        rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
+        rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = tFar;
+        rh.ray.mask = ~0u;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(impl_->scene, &ctx, &rh);
+        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+          out[size_t(y) * W + x] = VolHit{o + rh.ray.tfar * d, rh.hit.primID + 1u};
+      }
+  });
+  return out;
+}
+
+}  // namespace ft
