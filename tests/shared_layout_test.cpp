@@ -14,6 +14,7 @@
 #include "common/ambient_occlusion.h"
 #include "common/constants.h"
 #include "common/core_texture.h"
+#include "common/exemplar_volume.h"
 #include "common/fiber_shading.h"
 #include "common/fiber_vertex.h"
 #include "common/flyaway.h"
@@ -89,6 +90,7 @@ namespace {
   X(r0Mu) X(r0Sigma) X(reMu) X(reSigma) X(peMu) X(peSigma) X(rootOffset) X(alpha) X(noise) X(zReach) \
   X(margin) X(poissonThresholdB) X(poissonThresholdI) X(chunksB) X(chunksI) X(seed) X(pad0) X(pad1)
 #define FT_PCSS_PARAMS_MEMBERS(X) X(lightTanAlpha) X(lobeX) X(lobeY) X(lobeZ) X(lobeCone) X(extent) X(count)
+#define FT_VOL_PARAMS_MEMBERS(X) X(origin) X(dims) X(grid) X(ray) X(camPos) X(camRight) X(camUp) X(camDir)
 // clang-format on
 
 struct Member {
@@ -150,6 +152,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(FlyawayParams, FT_FLYAWAY_PARAMS_MEMBERS, "FlyawayBlock", "fly", FT_UBO_FLYAWAY),
       FT_UNIFORM_CASE(SvfParams, FT_SVF_PARAMS_MEMBERS, "SvfBlock", "svf", FT_UBO_SVF),
       FT_UNIFORM_CASE(PcssParams, FT_PCSS_PARAMS_MEMBERS, "PcssBlock", "pcss", FT_UBO_PCSS),
+      FT_UNIFORM_CASE(VolParams, FT_VOL_PARAMS_MEMBERS, "VolBlock", "vol", FT_UBO_PRT_VOL),
   };
 }
 

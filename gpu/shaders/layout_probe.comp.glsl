@@ -18,6 +18,7 @@
 #include "common/flyaway.h"
 #include "common/segment_visibility.h"
 #include "common/pcss.h"
+#include "common/exemplar_volume.h"
 float ftPcssFetch(int source, uint i) { return 0.0; }  // the lookups are not run here
 
 layout(local_size_x = 1) in;
@@ -54,6 +55,7 @@ layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; 
 layout(std140, binding = FT_UBO_FLYAWAY) uniform FlyawayBlock { FlyawayParams fly; };
 layout(std140, binding = FT_UBO_SVF) uniform SvfBlock { SvfParams svf; };
 layout(std140, binding = FT_UBO_PCSS) uniform PcssBlock { PcssParams pcss; };
+layout(std140, binding = FT_UBO_PRT_VOL) uniform VolBlock { VolParams vol; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -97,4 +99,8 @@ void main() {
   float pcssSum = pcss.lightTanAlpha.x + pcss.extent.x + float(pcss.count.x);  // every member read
   for (int j = 0; j < FT_PCSS_MAX_LOBES; ++j) pcssSum += pcss.lobeX[j].x + pcss.lobeY[j].x + pcss.lobeZ[j].x + pcss.lobeCone[j].x;
   if (pcssSum == -12345.0) aoCopy.seed = ao.seed;
+  // Every VolParams member read, so each is an active resource.
+  if (vol.origin.x + vol.camPos.x + vol.camRight.x + vol.camUp.x + vol.camDir.x == -12345.0 &&
+      vol.dims.x + vol.grid.x + vol.ray.x == 0xFFFFFFFFu)
+    aoCopy.seed = ao.seed;
 }
