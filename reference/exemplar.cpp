@@ -95,6 +95,15 @@ Exemplar makePlainWeaveExemplar(const ExemplarSettings& s) {
   return e;
 }
 
+void checkExemplarSegment(const ExemplarSegment& s, size_t k, bool distinct) {
+  const bool finite = std::isfinite(s.a.x) && std::isfinite(s.a.y) && std::isfinite(s.a.z) && std::isfinite(s.b.x) &&
+                      std::isfinite(s.b.y) && std::isfinite(s.b.z) && std::isfinite(s.radius);
+  if (!finite || !(s.radius > 0.0f) || (distinct && glm::distance(s.a, s.b) <= 0.0f))
+    throw InputError(fmt::format("segment {}: ({}, {}, {}) – ({}, {}, {}), radius {}: needs finite {}endpoints and a "
+                                 "radius > 0",
+                                 k, s.a.x, s.a.y, s.a.z, s.b.x, s.b.y, s.b.z, s.radius, distinct ? "distinct " : ""));
+}
+
 std::vector<ExemplarSegment> tileExemplar(const Exemplar& block, int tiles) {
   if (tiles < 1 || tiles > 63) throw InputError(fmt::format("--tiles: {} (1..63)", tiles));
   std::vector<ExemplarSegment> out;

@@ -50,6 +50,10 @@ struct Exemplar {
 // (unknown yarn, non-positive counts, --set errors).
 Exemplar makePlainWeaveExemplar(const ExemplarSettings& settings);
 
+// Throws InputError naming segment `index` unless its endpoints and radius
+// are finite, the radius > 0 and (distinct) the endpoints differ.
+void checkExemplarSegment(const ExemplarSegment& segment, size_t index, bool distinct = true);
+
 // N × N copies of the block translated by (i − ⌊N/2⌋, j − ⌊N/2⌋)·P, copy
 // c = j·N + i holding segments c·S .. c·S + S − 1 and fibers c·F .. c·F + F − 1
 // (a fiber that crosses a block edge is a different fiber in the next copy:

@@ -1,7 +1,6 @@
 // exemplar_volume.cpp — CPU reference of 004 §5.1 (reference/exemplar_volume.h).
 #include "reference/exemplar_volume.h"
 
-#include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
@@ -10,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "reference/segment_visibility.h"
 #include "scene/input_error.h"
 
 namespace ft {
@@ -24,13 +24,7 @@ VolParams makeVolumeLayout(const Exemplar& block, int voxelsPerPeriod, int cellV
   float rMax = 0.0f, zLo = std::numeric_limits<float>::infinity(), zHi = -zLo;
   for (size_t k = 0; k < block.segments.size(); ++k) {
     const ExemplarSegment& s = block.segments[k];
-    const bool finite = std::isfinite(s.a.x) && std::isfinite(s.a.y) && std::isfinite(s.a.z) &&
-                        std::isfinite(s.b.x) && std::isfinite(s.b.y) && std::isfinite(s.b.z) &&
-                        std::isfinite(s.radius);
-    if (!finite || !(s.radius > 0.0f))
-      throw InputError(fmt::format("exemplar volume: segment {}: ({}, {}, {}) – ({}, {}, {}), radius {}: needs "
-                                   "finite endpoints and a radius > 0",
-                                   k, s.a.x, s.a.y, s.a.z, s.b.x, s.b.y, s.b.z, s.radius));
+    checkExemplarSegment(s, k, false);
     // The 8 translates by ±P are the only neighbours the build looks at.
     for (const glm::vec3& e : {s.a, s.b})
       if (e.x < -P + s.radius || e.x > 2.0f * P - s.radius || e.y < -P + s.radius || e.y > 2.0f * P - s.radius)
@@ -200,49 +194,11 @@ std::vector<VolHit> sampleVolumeCpu(const ExemplarVolume& vol, const VolParams& 
 }
 
 struct VolumeTruth::Impl {
-  std::vector<glm::vec4> points;
-  std::vector<uint32_t> firstVertex;
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  ~Impl() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
-  }
+  SvfScene scene;
 };
 
-VolumeTruth::VolumeTruth(std::span<const ExemplarSegment> segments) : impl_(std::make_unique<Impl>()) {
-  Impl& m = *impl_;
-  for (size_t k = 0; k < segments.size(); ++k) {
-    const ExemplarSegment& s = segments[k];
-    const bool finite = std::isfinite(s.a.x) && std::isfinite(s.a.y) && std::isfinite(s.a.z) &&
-                        std::isfinite(s.b.x) && std::isfinite(s.b.y) && std::isfinite(s.b.z) &&
-                        std::isfinite(s.radius);
-    if (!finite || !(s.radius > 0.0f) || glm::distance(s.a, s.b) <= 0.0f)
-      throw InputError(fmt::format("segment {}: ({}, {}, {}) – ({}, {}, {}), radius {}: needs finite distinct "
-                                   "endpoints and a radius > 0",
-                                   k, s.a.x, s.a.y, s.a.z, s.b.x, s.b.y, s.b.z, s.radius));
-    m.points.emplace_back(s.a, s.radius);
-    m.points.emplace_back(s.b, s.radius);
-    m.firstVertex.push_back(uint32_t(2 * k));
-  }
-  m.device = rtcNewDevice(nullptr);
-  if (!m.device) throw std::runtime_error("Embree: rtcNewDevice failed");
-  m.scene = rtcNewScene(m.device);
-  if (!segments.empty()) {
-    RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, m.points.data(), 0,
-                               sizeof(glm::vec4), m.points.size());
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, m.firstVertex.data(), 0,
-                               sizeof(uint32_t), m.firstVertex.size());
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(m.scene, geom);
-    rtcReleaseGeometry(geom);
-  }
-  rtcCommitScene(m.scene);
-  if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE)
-    throw std::runtime_error("Embree: building the exemplar volume's truth scene failed");
-}
-
+VolumeTruth::VolumeTruth(std::span<const ExemplarSegment> segments)
+    : impl_(std::make_unique<Impl>(Impl{SvfScene(segments)})) {}
 VolumeTruth::~VolumeTruth() = default;
 VolumeTruth::VolumeTruth(VolumeTruth&&) noexcept = default;
 VolumeTruth& VolumeTruth::operator=(VolumeTruth&&) noexcept = default;
@@ -251,21 +207,11 @@ std::vector<VolHit> VolumeTruth::firstHits(const VolParams& p, float tFar) const
   const uint32_t W = p.ray.x, H = p.ray.y;
   std::vector<VolHit> out(size_t(W) * H, VolHit{glm::vec3(0.0f), 0u});
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, H), [&](const tbb::blocked_range<uint32_t>& rows) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
     for (uint32_t y = rows.begin(); y != rows.end(); ++y)
       for (uint32_t x = 0; x < W; ++x) {
         const glm::vec3 o = ftVolRayOrigin(p, x, y), d = ftVolRayDirection(p, x, y);
-        RTCRayHit rh{};
-        rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
-        rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
-        rh.ray.tnear = 0.0f;
-        rh.ray.tfar = tFar;
-        rh.ray.mask = ~0u;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(impl_->scene, &ctx, &rh);
-        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
-          out[size_t(y) * W + x] = VolHit{o + rh.ray.tfar * d, rh.hit.primID + 1u};
+        const auto [k, t] = impl_->scene.firstHit(o, d, tFar);
+        if (k >= 0) out[size_t(y) * W + x] = VolHit{o + t * d, uint32_t(k) + 1u};
       }
   });
   return out;

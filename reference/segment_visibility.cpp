@@ -33,13 +33,7 @@ SvfScene::SvfScene(std::span<const ExemplarSegment> segments) : impl_(std::make_
   m.points.reserve(2 * segments.size());
   for (size_t k = 0; k < segments.size(); ++k) {
     const ExemplarSegment& s = segments[k];
-    const bool finite = std::isfinite(s.a.x) && std::isfinite(s.a.y) && std::isfinite(s.a.z) &&
-                        std::isfinite(s.b.x) && std::isfinite(s.b.y) && std::isfinite(s.b.z) &&
-                        std::isfinite(s.radius);
-    if (!finite || !(s.radius > 0.0f) || glm::distance(s.a, s.b) <= 0.0f)
-      throw InputError(fmt::format("segment {}: ({}, {}, {}) – ({}, {}, {}), radius {}: needs finite distinct "
-                                   "endpoints and a radius > 0",
-                                   k, s.a.x, s.a.y, s.a.z, s.b.x, s.b.y, s.b.z, s.radius));
+    checkExemplarSegment(s, k);
     m.points.emplace_back(s.a, s.radius);
     m.points.emplace_back(s.b, s.radius);
     m.firstVertex.push_back(uint32_t(2 * k));
@@ -110,6 +104,21 @@ std::vector<uint8_t> SvfScene::visibilityImage(glm::vec3 origin, uint32_t ownFib
       image[size_t(y) * width + x] = ray.tfar >= 0.0f ? 1 : 0;  // Embree sets tfar to −∞ on a hit
     }
   return image;
+}
+
+std::pair<int64_t, float> SvfScene::firstHit(glm::vec3 origin, glm::vec3 direction, float tFar) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);  // no filter: every segment counts
+  RTCRayHit rh{};
+  rh.ray.org_x = origin.x, rh.ray.org_y = origin.y, rh.ray.org_z = origin.z;
+  rh.ray.dir_x = direction.x, rh.ray.dir_y = direction.y, rh.ray.dir_z = direction.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = tFar;
+  rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {-1, tFar};
+  return {int64_t(rh.hit.primID), rh.ray.tfar};
 }
 
 std::vector<float> svfSsdfCpu(std::span<const uint8_t> image, int W, int H) {

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -41,6 +42,11 @@ class SvfScene {
   // `ownSegment`). Serial: callers parallelise over segments.
   std::vector<uint8_t> visibilityImage(glm::vec3 origin, uint32_t ownFiber, uint32_t ownSegment, int width,
                                        int height) const;
+
+  // The nearest hit of o + t d, t ∈ [0, tFar], on any segment (no fiber
+  // excused): (segment index, t), or (−1, tFar) on a miss. Thread-safe: the
+  // exemplar volume's truth (reference/exemplar_volume.h) calls it per pixel.
+  std::pair<int64_t, float> firstHit(glm::vec3 origin, glm::vec3 direction, float tFar) const;
 
   struct Impl;
 
