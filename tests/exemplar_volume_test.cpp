@@ -209,6 +209,40 @@ TEST(ExemplarVolume, SamplerFindsTheOneVoxel) {
   for (float f : face) EXPECT_GT(f, 0.0f);
 }
 
+TEST(ExemplarVolume, CameraRays) {
+  VolParams p = smallLayout();
+  VolCamera cam;
+  cam.type = FT_VOL_CAMERA_PINHOLE;
+  cam.position = glm::vec3(0.1f, 0.2f, 3.0f);
+  cam.direction = glm::vec3(0.0f, 0.0f, -2.0f);  // not unit: normalised
+  cam.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  cam.halfWidth = 0.5f;
+  cam.halfHeight = 0.25f;
+  setVolumeRays(p, cam, 4, 2, 8);
+  for (uint32_t y = 0; y < 2; ++y)
+    for (uint32_t x = 0; x < 4; ++x) {
+      // Pixel centre on the image plane at distance 1: right = +x, up = +y, row 0 at the top.
+      const double sx = (x + 0.5) / 2.0 - 1.0, sy = 1.0 - (y + 0.5);
+      const glm::dvec3 d = glm::normalize(glm::dvec3(0.5 * sx, 0.25 * sy, -1.0));
+      const glm::vec3 o = ftVolRayOrigin(p, x, y), e = ftVolRayDirection(p, x, y);
+      EXPECT_EQ(o, cam.position);
+      EXPECT_NEAR(double(e.x), d.x, 1e-6);
+      EXPECT_NEAR(double(e.y), d.y, 1e-6);
+      EXPECT_NEAR(double(e.z), d.z, 1e-6);
+    }
+  cam.type = FT_VOL_CAMERA_ORTHO;
+  setVolumeRays(p, cam, 4, 2, 8);
+  for (uint32_t y = 0; y < 2; ++y)
+    for (uint32_t x = 0; x < 4; ++x) {
+      const double sx = (x + 0.5) / 2.0 - 1.0, sy = 1.0 - (y + 0.5);
+      const glm::vec3 o = ftVolRayOrigin(p, x, y);
+      EXPECT_NEAR(double(o.x), 0.1 + 0.5 * sx, 1e-6);
+      EXPECT_NEAR(double(o.y), 0.2 + 0.25 * sy, 1e-6);
+      EXPECT_NEAR(double(o.z), 3.0, 1e-6);
+      EXPECT_EQ(ftVolRayDirection(p, x, y), glm::vec3(0.0f, 0.0f, -1.0f));
+    }
+}
+
 TEST(ExemplarVolume, BadInputIsNamed) {
   Exemplar empty;
   empty.period = 1.0f;
