@@ -1,7 +1,7 @@
 // exemplar_volume_cases.cpp — the exemplar volume and eye-ray casting of
 // Khungurn et al. 2017 (004) §5.1 (common/exemplar_volume.h, reference/
 // exemplar_volume.h, gpu/exemplar_volume_gpu.h; docs/exemplar-volume.md).
-// Path "vol". One CI exemplar (plain weave, polyester1, 12 fibers/ply, fiber
+// Path "vol". One CI exemplar (plain weave, polyester1, 40 fibers/ply, fiber
 // radius 0.0018 so that h = 2 r_f gives 64 voxels a period), 128² rays:
 //   prt/vol/idvolume     GPU ids vs CPU ids (ties within 1e-6 h excluded);
 //                        coverage and reach of the non-empty voxels against
