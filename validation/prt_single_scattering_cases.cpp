@@ -463,13 +463,14 @@ glm::dvec3 specularView(glm::dvec3 t, glm::dvec3 xi) {
 
 // |ours − MC| beyond 4 standard errors, relative to the largest MC value of
 // the same λ (per channel max).
-double mcError(const std::vector<McPoint>& pts, double lambda) {
+// sigmas = 0: the raw difference.
+double mcError(const std::vector<McPoint>& pts, double lambda, double sigmas = 4.0) {
   double peak = 0.0, e = 0.0;
   for (const McPoint& p : pts)
     if (p.lambda == lambda) peak = std::max(peak, maxComp(p.mc));
   for (const McPoint& p : pts)
     if (p.lambda == lambda)
-      e = maxKeepNaN(e, maxComp(glm::max(glm::abs(p.ours - p.mc) - 4.0 * p.se, glm::dvec3(0.0))) / peak);
+      e = maxKeepNaN(e, maxComp(glm::max(glm::abs(p.ours - p.mc) - sigmas * p.se, glm::dvec3(0.0))) / peak);
   return e;
 }
 
@@ -552,7 +553,7 @@ CaseResult runLoneCase(ValidationContext& ctx, const std::string& name) {
       details += fmt::format(" λ={:g} {:.2e}", lambda, e);
       if (lambda <= 100.0) {
         const double es = mcError(ssg, lambda);
-        details += fmt::format(" (vs V^ssg {:.2e})", es);
+        details += fmt::format(" (vs V^ssg {:.2e}, raw {:.2e})", es, mcError(ssg, lambda, 0.0));
         sosgErr = maxKeepNaN(sosgErr, es);
         rippleErr = maxKeepNaN(rippleErr, e);
       } else {
@@ -747,9 +748,10 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
                           g[worstIdx].y, g[worstIdx].z, per);
   r.histogramMetric = "sweep.max_rel";
   r.metrics = {
-      Metric{"table.max_rel", tableErr, 1e-5, "",
-             "GPU 𝒢 texels (bcsdf.h's Z: closed form / 20-point Gauss–Legendre, float) vs the CPU's double quadrature, "
-             "relative to max(Z, 1e-3)"},
+      Metric{"table.max_rel", tableErr, 2e-5, "",
+             "GPU 𝒢 texels (bcsdf.h's Z: closed form, or 20-point Gauss–Legendre over the ±6β window clipped at ±π/2, "
+             "in float) vs the CPU's double quadrature over ±10β, relative to max(Z, 1e-3): measured 8e-6 (the "
+             "window's truncation and float)"},
       Metric{"sweep.max_rel", worst, 1e-4, "",
              fmt::format("GPU vs CPU radiance over {} requests (64 × 32 light axes × 8 λ + directional, fleece and silk, "
                          "2 segments), |Δ| / (|cpu| + 1e-2 · the largest of its fabric and λ): float vs double with the "
