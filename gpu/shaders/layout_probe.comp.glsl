@@ -19,6 +19,8 @@
 #include "common/segment_visibility.h"
 #include "common/pcss.h"
 float ftPcssFetch(int source, uint i) { return 0.0; }  // the lookups are not run here
+float prtSsTable[1];  // the shared body reads its table by this name (no storage block left here)
+#include "common/prt_single_scattering.h"
 
 layout(local_size_x = 1) in;
 
@@ -54,6 +56,7 @@ layout(std140, binding = FT_UBO_SRBF) uniform SrbfBlock { SrbfEnvironment srbf; 
 layout(std140, binding = FT_UBO_FLYAWAY) uniform FlyawayBlock { FlyawayParams fly; };
 layout(std140, binding = FT_UBO_SVF) uniform SvfBlock { SvfParams svf; };
 layout(std140, binding = FT_UBO_PCSS) uniform PcssBlock { PcssParams pcss; };
+layout(std140, binding = FT_UBO_PRT_SS) uniform PrtSsBlock { PrtSsParams prtSs; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -97,4 +100,10 @@ void main() {
   float pcssSum = pcss.lightTanAlpha.x + pcss.extent.x + float(pcss.count.x);  // every member read
   for (int j = 0; j < FT_PCSS_MAX_LOBES; ++j) pcssSum += pcss.lobeX[j].x + pcss.lobeY[j].x + pcss.lobeZ[j].x + pcss.lobeCone[j].x;
   if (pcssSum == -12345.0) aoCopy.seed = ao.seed;
+  // Every PrtSsParams member read, so each is an active resource.
+  float prtSum = prtSs.lambdaSvf;
+  for (int f = 0; f < FT_PRT_SS_MAX_FABRICS; ++f)
+    prtSum += prtSs.fabrics[f].colorR.x + prtSs.fabrics[f].colorTT.x + prtSs.fabrics[f].lobes.x;
+  uint prtBits = prtSs.count ^ prtSs.mode ^ prtSs.fabricCount ^ prtSs.axes ^ prtSs.tableSize ^ prtSs.pad0 ^ prtSs.pad1;
+  if (prtSum == -12345.0 && prtBits == 0x12345u) aoCopy.seed = ao.seed;
 }
