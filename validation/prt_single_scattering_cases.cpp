@@ -474,6 +474,15 @@ double mcError(const std::vector<McPoint>& pts, double lambda, double sigmas = 4
   return e;
 }
 
+// Σ |ours − MC| / Σ MC over the lights of one λ (max channel): the aggregate
+// error, robust to the one light a visibility edge crosses.
+double mcMeanError(const std::vector<McPoint>& pts, double lambda) {
+  double num = 0.0, den = 0.0;
+  for (const McPoint& p : pts)
+    if (p.lambda == lambda) num += maxComp(glm::abs(p.ours - p.mc)), den += maxComp(p.mc);
+  return num / den;
+}
+
 // Our SG light (double) for one segment: weights, R_k, the SSDF at ξ by `ssdfAt`.
 template <class SsdfAt>
 void evaluateOurs(const Fabrics& fs, int f, glm::dvec3 t, const std::vector<float>& weights,
@@ -505,6 +514,10 @@ constexpr int kMcSamples = 4096;
 // Sum of SGs vs MC with V^ssg: Γ at ‖ξˢᵘᵐ‖ ≥ 128 − λ errs ~2e-3 of the peak
 // (prt/ss/gamma at λ = 100); MC's 4σ is taken off first.
 constexpr double kLoneSosgTolerance = 0.02;
+// Exemplar vs MC (aggregate over lights): set from the measured values in
+// docs/prt-single-scattering.md with ~1.5× margin; model error, not rounding.
+// Measured: soft 0.19, sharp 0.35 (exact SSDF) and 0.22 (PCA-decoded).
+constexpr double kExemplarSoftTolerance = 0.25, kExemplarSharpTolerance = 0.45;
 
 CaseResult runLoneCase(ValidationContext& ctx, const std::string& name) {
   CaseResult r = start(name);
@@ -599,15 +612,24 @@ CaseResult runExemplarCase(ValidationContext& ctx, const std::string& name) {
   s.height = 64;
   // The segment among the first 8 whose upper hemisphere is most occluded
   // but not closed (partly lit from above).
-  SvfSegment seg;
-  uint32_t pick = 0;
+  // 24 segments (every ⌊S/24⌋-th) for a PCA of their SSDFs (16 components, as
+  // the SVF bake compresses them: svfPcaCpu), the chosen one among them.
+  const size_t rows = std::min<size_t>(24, block.segments.size()), stride = block.segments.size() / rows;
+  std::vector<SvfSegment> all(rows);
+  tbb::parallel_for(size_t(0), rows, [&](size_t i) { all[i] = svfSegmentCpu(scene, block, tiles, uint32_t(i * stride), s); });
+  size_t row = 0;
   double best = -1.0;
-  for (uint32_t k = 0; k < std::min<uint32_t>(8, uint32_t(block.segments.size())); ++k) {
-    SvfSegment c = svfSegmentCpu(scene, block, tiles, k, s);
+  for (size_t i = 0; i < rows; ++i) {
     const size_t half = size_t(s.width) * size_t(s.height) / 2;
-    const double occ = double(std::count(c.image.begin(), c.image.begin() + long(half), uint8_t(0))) / double(half);
-    if (occ < 0.8 && occ > best) best = occ, pick = k, seg = std::move(c);
+    const double occ = double(std::count(all[i].image.begin(), all[i].image.begin() + long(half), uint8_t(0))) / double(half);
+    if (occ < 0.8 && occ > best) best = occ, row = i;
   }
+  const SvfSegment& seg = all[row];
+  const uint32_t pick = uint32_t(row * stride);
+  std::vector<float> ssdfAll;
+  for (const SvfSegment& a : all) ssdfAll.insert(ssdfAll.end(), a.ssdf.begin(), a.ssdf.end());
+  const SvfPca pca = svfPcaCpu(ssdfAll, rows, s.width * s.height, 16);
+  const std::vector<double> decoded = svfPcaReconstruct(pca, row, pca.components);
   const ExemplarSegment& es0 = block.segments[pick];
   const glm::dvec3 t = glm::normalize(glm::dvec3(es0.b - es0.a));
   // The image's pixel of a direction (θ = π(y + ½)/H from +z, φ = 2π(x + ½)/W − π), written here.
@@ -631,26 +653,47 @@ CaseResult runExemplarCase(ValidationContext& ctx, const std::string& name) {
       }
   evaluateOurs(fs, f, t, seg.weights, seg.angle, [&](glm::dvec3 w) { return double(seg.ssdf[pixel(w)]); }, pts);
   runMc(fs, f, t, vis, kMcSamples, pts);
+  // The same with the PCA-decoded SSDF (what a frame reads), and with the SSDF
+  // moved half a row (π/2H) towards 0: the distance to the pixel edge, not
+  // to the opposite pixel's centre (an experiment, informational).
+  std::vector<McPoint> viaPca = pts, halfPixel = pts;
+  evaluateOurs(fs, f, t, seg.weights, seg.angle, [&](glm::dvec3 w) { return decoded[pixel(w)]; }, viaPca);
+  evaluateOurs(fs, f, t, seg.weights, seg.angle, [&](glm::dvec3 w) {
+    const double d = seg.ssdf[pixel(w)];
+    return d - std::copysign(0.5 * kPi / s.height, d);
+  }, halfPixel);
   r.cpuMilliseconds = msSince(t0);
   uint64_t bad = 0;
   for (const McPoint& p : pts)
     if (!finite3(p.ours) || !finite3(p.mc)) ++bad;
   std::string details = fmt::format("segment {} ({:.0f} % of the upper hemisphere occluded), fleece:", pick, 100.0 * best);
-  double soft = 0.0, sharp = 0.0;
+  double soft = 0.0, sharp = 0.0, sharpPca = 0.0, sharpHalf = 0.0;
+  details += " mean (max beyond 4σ) per λ:";
   for (double lambda : {10.0, 50.0, 150.0, 400.0, 1000.0}) {
-    const double e = mcError(pts, lambda);
-    details += fmt::format(" λ={:g} {:.2e};", lambda, e);
+    const double e = mcMeanError(pts, lambda), ep = mcMeanError(viaPca, lambda);
+    details += fmt::format(" λ={:g} {:.3f} ({:.3f}), PCA SSDF {:.3f} ({:.3f});", lambda, e, mcError(pts, lambda), ep,
+                           mcError(viaPca, lambda));
     (lambda <= 150.0 ? soft : sharp) = maxKeepNaN(lambda <= 150.0 ? soft : sharp, e);
+    if (lambda > 150.0) sharpPca = maxKeepNaN(sharpPca, ep), sharpHalf = maxKeepNaN(sharpHalf, mcMeanError(halfPixel, lambda));
   }
   r.details = details;
   r.metrics = {
-      Metric{"exemplar.soft_vs_mc", soft, 0.2, "of the peak",
-             "λ ∈ {10, 50, 150}: sum of SGs (and the blend) vs MC with the segment's exact 64² binary image "
-             "(measured 0.12): the representation's ripple (prt/ss/lone) and softness (004 Fig. 6b: too bright in "
-             "shadow); light through the fabric from below, which the upper-hemisphere SGs leave out"},
-      Metric{"exemplar.sharp_vs_mc", sharp, 0.3, "of the peak",
-             "λ ∈ {400, 10³}: Ṽ_loc(SSDF) Γ vs MC (measured 0.22): visibility edges of 2.8° × 5.6° pixels inside "
-             "the SG's width (2.9° at λ = 400), the SSDF sampled at the pixel centre (004 Fig. 6c)"},
+      Metric{"exemplar.soft_vs_mc", soft, kExemplarSoftTolerance, "",
+             "λ ∈ {10, 50, 150}: Σ|ours − MC|/Σ MC over 12 lights, sum of SGs (and the blend) vs MC with the segment's "
+             "exact 64² binary image: the representation's ripple (prt/ss/lone) and softness (004 Fig. 6b: too bright "
+             "in shadow); light through the fabric from below, which the upper-hemisphere SGs leave out"},
+      Metric{"exemplar.sharp_vs_mc", sharp, kExemplarSharpTolerance, "",
+             "λ ∈ {400, 10³}: the same for Ṽ_loc(SSDF) Γ: the SSDF is a distance between pixel centres, half a pixel "
+             "(1.4°–2.8°) more than to the edge, which at λ = 400 (SG width 2.9°) turns a half-lit light into "
+             "Ṽ ≈ 0.17 or 0.83 (004 Fig. 6c); the max per light is in the details"},
+      Metric{"exemplar.sharp_pca_vs_mc", sharpPca, 0.3, "",
+             fmt::format("the same with the SSDF decoded from a PCA of {} segments' SSDFs ({} components, svfPcaCpu)",
+                         rows, pca.components)},
+      Metric{"exemplar.sharp_half_pixel_vs_mc", sharpHalf, 0.0, "",
+             "experiment: the exact SSDF moved half a row towards 0 (≈ the distance to the pixel edge): the sharp "
+             "branch's aggregate error drops from 0.35 to 0.22 — much of it is the SSDF's centre-to-centre convention, "
+             "not Γ or Ṽ_loc",
+             false},
       nonFiniteMetric("cpu", bad, "ours and MC"),
   };
   r.finish();
