@@ -181,9 +181,9 @@ FT_FUNC kvec3 ftPrtSsGamma(FT_PRT_SS_TABLE_DECL FabricParams p, int fabric, krea
       // λ_m − κ_sg as (κ² − 2κκ_sg cos ϕ′)/(λ_m + κ_sg): no cancellation of
       // two numbers near 10⁴ in float.
       kreal kappa = kreal(p.lobes.y);
-      kreal cross = kappa * kappa - KR(2.0) * kappa * kappaSg * cos(phiX);
-      kreal lm = sqrt(max(kappaSg * kappaSg + cross, KR(0.0)));
-      kreal lmMinusSg = lm + kappaSg > KR(0.0) ? cross / (lm + kappaSg) : KR(0.0);
+      kreal kappaTerm = kappa * kappa - KR(2.0) * kappa * kappaSg * cos(phiX);
+      kreal lm = sqrt(max(kappaSg * kappaSg + kappaTerm, KR(0.0)));
+      kreal lmMinusSg = lm + kappaSg > KR(0.0) ? kappaTerm / (lm + kappaSg) : KR(0.0);
 #ifdef FT_FAULT_SS_I0_UNSCALED
       kreal bessel = (FT_PRT_SS_I0E(lm) * exp(lm)) / (exp(kappaSg) * FT_PRT_SS_I0E(kappa) * exp(kappa)) *
                      exp(logA + logScale);  // planted: the factors apart (GPU)
