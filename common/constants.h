@@ -153,6 +153,7 @@
 #define FT_SSBO_PRT_RESULTS 40       // their results
 #define FT_UBO_PRT_SS 20             // single scattering (common/prt_single_scattering.h)
 #define FT_SSBO_PRT_SS_TABLE 41      // its tables (𝒢(μ; λ) per BCSDF lobe)
+#define FT_WG_PRT_SS 64              // its compute program: 𝒢 texels (bake) or requests per work group
 #define FT_UBO_PRT_MS 21             // multiple scattering (common/prt_multiple_scattering.h)
 #define FT_SSBO_PRT_MS_TRANSFER 62   // the IIRTF matrices A_C per cell
 #define FT_SSBO_PRT_MS_TABLES 63     // C_S and C_G

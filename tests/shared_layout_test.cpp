@@ -22,6 +22,7 @@
 #include "common/occlusion_cull.h"
 #include "common/segment_visibility.h"
 #include "common/pcss.h"
+#include "common/prt_single_scattering.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
 #include "common/view_params.h"
@@ -89,6 +90,11 @@ namespace {
   X(width) X(height) X(maxPerSet) X(patterns) X(period) X(halfWidth) X(bodyRadius) X(lineHalfWidth) X(zeMu) X(zeSigma) \
   X(r0Mu) X(r0Sigma) X(reMu) X(reSigma) X(peMu) X(peSigma) X(rootOffset) X(alpha) X(noise) X(zReach) \
   X(margin) X(poissonThresholdB) X(poissonThresholdI) X(chunksB) X(chunksI) X(seed) X(pad0) X(pad1)
+#define FT_PRT_SS_FABRIC_MEMBERS(X, i) X(fabrics[i].colorR) X(fabrics[i].colorTT) X(fabrics[i].lobes)
+#define FT_PRT_SS_PARAMS_MEMBERS(X) \
+  FT_PRT_SS_FABRIC_MEMBERS(X, 0) FT_PRT_SS_FABRIC_MEMBERS(X, 1) FT_PRT_SS_FABRIC_MEMBERS(X, 2) FT_PRT_SS_FABRIC_MEMBERS(X, 3) \
+  FT_PRT_SS_FABRIC_MEMBERS(X, 4) FT_PRT_SS_FABRIC_MEMBERS(X, 5) FT_PRT_SS_FABRIC_MEMBERS(X, 6) FT_PRT_SS_FABRIC_MEMBERS(X, 7) \
+  X(count) X(mode) X(fabricCount) X(axes) X(lambdaSvf) X(tableSize) X(pad0) X(pad1)
 #define FT_PCSS_PARAMS_MEMBERS(X) X(lightTanAlpha) X(lobeX) X(lobeY) X(lobeZ) X(lobeCone) X(extent) X(count)
 #define FT_VOL_PARAMS_MEMBERS(X) X(origin) X(dims) X(grid) X(ray) X(camPos) X(camRight) X(camUp) X(camDir)
 // clang-format on
@@ -153,6 +159,7 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(SvfParams, FT_SVF_PARAMS_MEMBERS, "SvfBlock", "svf", FT_UBO_SVF),
       FT_UNIFORM_CASE(PcssParams, FT_PCSS_PARAMS_MEMBERS, "PcssBlock", "pcss", FT_UBO_PCSS),
       FT_UNIFORM_CASE(VolParams, FT_VOL_PARAMS_MEMBERS, "VolBlock", "vol", FT_UBO_PRT_VOL),
+      FT_UNIFORM_CASE(PrtSsParams, FT_PRT_SS_PARAMS_MEMBERS, "PrtSsBlock", "prtSs", FT_UBO_PRT_SS),
   };
 }
 

@@ -20,6 +20,8 @@
 #include "common/pcss.h"
 #include "common/exemplar_volume.h"
 float ftPcssFetch(int source, uint i) { return 0.0; }  // the lookups are not run here
+float prtSsTable[1];  // the shared body reads its table by this name (no storage block left here)
+#include "common/prt_single_scattering.h"
 
 layout(local_size_x = 1) in;
 
@@ -56,6 +58,7 @@ layout(std140, binding = FT_UBO_FLYAWAY) uniform FlyawayBlock { FlyawayParams fl
 layout(std140, binding = FT_UBO_SVF) uniform SvfBlock { SvfParams svf; };
 layout(std140, binding = FT_UBO_PCSS) uniform PcssBlock { PcssParams pcss; };
 layout(std140, binding = FT_UBO_PRT_VOL) uniform VolBlock { VolParams vol; };
+layout(std140, binding = FT_UBO_PRT_SS) uniform PrtSsBlock { PrtSsParams prtSs; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -103,4 +106,10 @@ void main() {
   if (vol.origin.x + vol.camPos.x + vol.camRight.x + vol.camUp.x + vol.camDir.x == -12345.0 &&
       vol.dims.x + vol.grid.x + vol.ray.x == 0xFFFFFFFFu)
     aoCopy.seed = ao.seed;
+  // Every PrtSsParams member read, so each is an active resource.
+  float prtSum = prtSs.lambdaSvf;
+  for (int f = 0; f < FT_PRT_SS_MAX_FABRICS; ++f)
+    prtSum += prtSs.fabrics[f].colorR.x + prtSs.fabrics[f].colorTT.x + prtSs.fabrics[f].lobes.x;
+  uint prtBits = prtSs.count ^ prtSs.mode ^ prtSs.fabricCount ^ prtSs.axes ^ prtSs.tableSize ^ prtSs.pad0 ^ prtSs.pad1;
+  if (prtSum == -12345.0 && prtBits == 0x12345u) aoCopy.seed = ao.seed;
 }
