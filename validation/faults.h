@@ -15,6 +15,7 @@
 #include "common/lod.h"
 #include "common/pcss.h"
 #include "common/segment_visibility.h"
+#include "common/sh.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"

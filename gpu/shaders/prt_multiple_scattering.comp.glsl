@@ -1,0 +1,131 @@
+// The GPU twin of local multiple scattering of 004 §4.3 and §5.3.1
+// (common/prt_multiple_scattering.h, common/sh.h, gpu/prt_multiple_scattering_gpu.h).
+// One program, five passes (ms.mode):
+//   FT_PRT_MS_PHI      one invocation per (lobe, θ_i): Φ_p,j(θ_i) = Σ_φ Y_j N_p Δφ, j < 36;
+//   FT_PRT_MS_CS       one per θ_o row: C_S[θ_o, j] rgb = Σ_θi cos²θ_i (lobe_R Φ_R + lobe_TT Φ_TT) Δθ,
+//                      Φ read from the tables buffer;
+//   FT_PRT_MS_CG       one per λ node: C_G[λ, l], l < 6;
+//   FT_PRT_MS_FRAME    one per query: c_d (or rotated c_G) → c_T = A_C c_d → R_ωo → dot C_S[θ_o];
+//   FT_PRT_MS_SH_PROBE one per query: Y(ω) and M(R) Y(ω) (R rows: tangent.xyz, light.xyz, their cross).
+// Sums run in the CPU's order, in float. Loops: n_φ, n_θi ≤ 65,535 (llvmpipe's limit).
+#include "common/constants.h"
+#include "common/prt_multiple_scattering.h"
+#include "shaders/flat_dispatch.glsl"
+
+layout(local_size_x = FT_WG_PRT_MS) in;
+layout(std140, binding = FT_UBO_PRT_MS) uniform PrtMsBlock { PrtMsParams ms; };
+layout(std430, binding = FT_SSBO_PRT_REQUESTS) readonly buffer PrtMsRequests { PrtMsQuery queries[]; };
+layout(std430, binding = FT_SSBO_PRT_RESULTS) writeonly buffer PrtMsResults { float results[]; };
+// A_C per cell: float[cells][3][36][36], row j1, column j0.
+layout(std430, binding = FT_SSBO_PRT_MS_TRANSFER) readonly buffer PrtMsTransfer { float transfer[]; };
+// FRAME: C_S as float[θ_o][36][4] (rgb, 0), then C_G as float[λ][6]. CS: Φ as float[2][θ_i][36].
+layout(std430, binding = FT_SSBO_PRT_MS_TABLES) readonly buffer PrtMsTables { float tables[]; };
+uniform uint groupsX;
+uniform uint itemCount;
+
+void phiPass(uint item) {
+  int n = int(ms.thetaINodes), np = int(ms.phiNodes);
+  int lobe = int(item) / n, i = int(item) % n;
+  float th = prtMsThetaINode(i, n);
+  float dphi = 6.283185307179586f / float(np);
+  float acc[FT_SH_COEFFS];
+  for (int j = 0; j < FT_SH_COEFFS; ++j) acc[j] = 0.0f;
+  for (int k = 0; k < np; ++k) {
+    float ph = prtMsPhiNode(k, np);
+    ShCoeffs y = shEval(prtMsOmegaOSpaceDirection(th, ph));
+    float w = (lobe == 0 ? 1.0f : prtMsAzimuthTT(ms.fabric, ph)) * dphi;
+    for (int j = 0; j < FT_SH_COEFFS; ++j) acc[j] += y.c[j] * w;
+  }
+  for (int j = 0; j < FT_SH_COEFFS; ++j) results[item * uint(FT_SH_COEFFS) + uint(j)] = acc[j];
+}
+
+void csPass(uint item) {
+  int n = int(ms.thetaINodes);
+  float thetaO = prtMsThetaONode(int(item), int(ms.thetaONodes));
+  float dtheta = 3.14159265358979f / float(n);
+  vec3 acc[FT_SH_COEFFS];
+  for (int j = 0; j < FT_SH_COEFFS; ++j) acc[j] = vec3(0.0f);
+  for (int i = 0; i < n; ++i) {
+    float th = prtMsThetaINode(i, n);
+    float c2 = cos(th) * cos(th) * dtheta;
+    vec3 r = prtMsLobeR(ms.fabric, th, thetaO), tt = prtMsLobeTT(ms.fabric, th, thetaO);
+    uint pr = uint(i) * uint(FT_SH_COEFFS), pt = (uint(n) + uint(i)) * uint(FT_SH_COEFFS);
+    for (int j = 0; j < FT_SH_COEFFS; ++j) acc[j] += c2 * (r * tables[pr + uint(j)] + tt * tables[pt + uint(j)]);
+  }
+  for (int j = 0; j < FT_SH_COEFFS; ++j)
+    for (int ch = 0; ch < 3; ++ch) results[(item * uint(FT_SH_COEFFS) + uint(j)) * 4u + uint(ch)] = acc[j][ch];
+}
+
+void cgPass(uint item) {
+  PrtMsZonal z = prtMsZonalSg(float(item) / float(ms.lambdaNodes - 1u));
+  for (int l = 0; l < FT_SH_BANDS; ++l) results[item * uint(FT_SH_BANDS) + uint(l)] = z.c[l];
+}
+
+void framePass(uint item) {
+  PrtMsQuery q = queries[item];
+  int bands = int(ms.bands), J = bands * bands;
+  vec3 light = q.light.xyz;
+  ShCoeffs cd;
+  uint cgBase = ms.thetaONodes * uint(FT_SH_COEFFS) * 4u;
+  if (q.light.w > 0.0f) {
+    vec3 lk = prtMsCgLookup(q.light.w, int(ms.lambdaNodes));
+    PrtMsZonal g;
+    for (int l = 0; l < FT_SH_BANDS; ++l)
+      g.c[l] = mix(tables[cgBase + uint(lk.x) * uint(FT_SH_BANDS) + uint(l)],
+                   tables[cgBase + uint(lk.y) * uint(FT_SH_BANDS) + uint(l)], lk.z);
+    cd = prtMsSgCoeffs(g, light, bands);
+  } else {
+    cd = shEval(light);
+  }
+  vec3 t = q.tangent.xyz, wo = q.wo.xyz;
+  ShRotation R = prtMsOmegaORotation(t, wo, bands);
+  vec3 lk = prtMsCsLookup(prtMsThetaO(t, wo), int(ms.thetaONodes));
+  uint base = q.cell.x * 3u * uint(FT_SH_COEFFS * FT_SH_COEFFS);
+  vec3 L = vec3(0.0f);
+  for (int ch = 0; ch < 3; ++ch) {
+    ShCoeffs cT = shZero();
+    for (int j1 = 0; j1 < J; ++j1) {
+      float s = 0.0f;
+      for (int j0 = 0; j0 < J; ++j0) {
+#ifdef FT_FAULT_MS_IIRTF_TRANSPOSED
+        uint at = uint((ch * FT_SH_COEFFS + j0) * FT_SH_COEFFS + j1);  // planted: A_Cᵀ c_d
+#else
+        uint at = uint((ch * FT_SH_COEFFS + j1) * FT_SH_COEFFS + j0);
+#endif
+        s += transfer[base + at] * cd.c[j0];
+      }
+      cT.c[j1] = s;
+    }
+    ShCoeffs c = prtMsToOmegaOSpace(R, cT, bands);
+    float d = 0.0f;
+    for (int j = 0; j < J; ++j) {
+      float s0 = tables[(uint(lk.x) * uint(FT_SH_COEFFS) + uint(j)) * 4u + uint(ch)];
+      float s1 = tables[(uint(lk.y) * uint(FT_SH_COEFFS) + uint(j)) * 4u + uint(ch)];
+      d += mix(s0, s1, lk.z) * c.c[j];
+    }
+    L[ch] = d;
+  }
+  for (int ch = 0; ch < 3; ++ch) results[item * 4u + uint(ch)] = L[ch];
+  results[item * 4u + 3u] = 0.0f;
+}
+
+void probePass(uint item) {
+  PrtMsQuery q = queries[item];
+  vec3 rx = q.tangent.xyz, ry = q.light.xyz, rz = cross(rx, ry);
+  ShCoeffs y = shEval(q.wo.xyz);
+  ShCoeffs r = shRotate(shRotation(rx, ry, rz, FT_SH_BANDS), y, FT_SH_BANDS);
+  for (int j = 0; j < FT_SH_COEFFS; ++j) {
+    results[item * 72u + uint(j)] = y.c[j];
+    results[item * 72u + 36u + uint(j)] = r.c[j];
+  }
+}
+
+void main() {
+  uint item = flatInvocationIndex(groupsX, FT_WG_PRT_MS);
+  if (item >= itemCount) return;
+  if (ms.mode == FT_PRT_MS_PHI) phiPass(item);
+  else if (ms.mode == FT_PRT_MS_CS) csPass(item);
+  else if (ms.mode == FT_PRT_MS_CG) cgPass(item);
+  else if (ms.mode == FT_PRT_MS_FRAME) framePass(item);
+  else probePass(item);
+}
