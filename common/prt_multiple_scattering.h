@@ -43,10 +43,15 @@
 
 // Passes of prt_multiple_scattering.comp.glsl (PrtMsParams.mode).
 #define FT_PRT_MS_PHI 0u      // Φ_p,j(θ_i): one invocation per (lobe, θ_i)
-#define FT_PRT_MS_CS 1u       // C_S[θ_o, ·]: one per θ_o
+#define FT_PRT_MS_CS 1u       // C_S[θ_o, ·] partial sums: one per (θ_o, chunk of FT_MS_CS_CHUNK θ_i)
 #define FT_PRT_MS_CG 2u       // C_G[λ, ·]: one per λ node
 #define FT_PRT_MS_FRAME 3u    // L̃^multi per query
 #define FT_PRT_MS_SH_PROBE 4u // Y(ω) and M(R)Y(ω) per query (identity checks)
+#define FT_PRT_MS_CS_SUM 5u   // C_S[θ_o, j]: one per (θ_o, j), the chunks' partial sums in order
+// θ_i nodes per GPU invocation of the C_S pass: llvmpipe ends an invocation's
+// loops after 65,535 iterations in all (docs/llvmpipe-notes.md); 256 θ_i ×
+// (36 + the lobes' quadrature loops) stays well below.
+#define FT_MS_CS_CHUNK 256
 
 FT_NAMESPACE_BEGIN
 
@@ -194,16 +199,19 @@ FT_FUNC ShRotation prtMsOmegaORotation(shvec3 t, shvec3 wo, int bands) {
   shvec3 z = cross(x, y);
   return shRotation(x, y, z, bands);
 }
-// c_T in ω_o-space (the planted GPU fault keeps object space).
-FT_FUNC ShCoeffs prtMsToOmegaOSpace(ShRotation r, ShCoeffs cT, int bands) {
+// c_T (rgb) in ω_o-space (the planted GPU fault keeps object space).
+FT_FUNC ShCoeffs3 prtMsToOmegaOSpace(ShRotation r, ShCoeffs3 cT, int bands) {
 #ifdef FT_FAULT_MS_NO_OMEGA_O_ROTATION
   return cT;  // planted: R_ωo skipped, the dot taken in object space
 #else
-  return shRotate(r, cT, bands);
+  return shRotate3(r, cT, bands);
 #endif
 }
-// The light's coefficients: Y(ω_d), or the C_G row lerped at λ and turned to ξ.
-FT_FUNC ShCoeffs prtMsSgCoeffs(PrtMsZonal g, shvec3 xi, int bands) { return shRotateZonal(g.c, xi, bands); }
+// The light's coefficients from y = Y(ω_d or ξ): y itself (directional), or
+// the C_G row g lerped at λ and turned to ξ (SG, λ > 0).
+FT_FUNC ShCoeffs prtMsLightCoeffs(ShCoeffs y, PrtMsZonal g, bool sg, int bands) {
+  return sg ? shZonalFromY(g.c, y, bands) : y;
+}
 
 FT_NAMESPACE_END
 #endif  // FT_PRT_MULTIPLE_SCATTERING_H

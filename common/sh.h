@@ -82,12 +82,17 @@ FT_FUNC ShCoeffs shZero() {
   return r;
 }
 
-// K_lm of the header (m ≥ 0).
-FT_FUNC shreal shNorm(int l, int m) {
-  shreal ratio = SHR(1.0);  // (l − m)!/(l + m)!
-  for (int k = l - m + 1; k <= l + m; ++k) ratio /= shreal(k);
-  return sqrt(shreal(2 * l + 1) / SHR(12.566370614359172953850573533118) * ratio);
-}
+// K_lm of the header (m ≥ 0), index l(l + 1)/2 + m, written out: a loop over
+// the factorials would count against llvmpipe's per-invocation loop budget
+// (docs/llvmpipe-notes.md) in the GPU's quadrature loops.
+const shreal kFtShNorm[21] = {
+    SHR(0.28209479177387814),   SHR(0.48860251190291992),  SHR(0.3454941494713355),   SHR(0.63078313050504009),
+    SHR(0.25751613468212642),   SHR(0.12875806734106321),  SHR(0.7463526651802308),   SHR(0.21545345607610045),
+    SHR(0.068132365095552164),  SHR(0.027814921575518941), SHR(0.84628437532163447),  SHR(0.18923493915151202),
+    SHR(0.044603102903819275),  SHR(0.011920680675222404), SHR(0.0042145970709045969), SHR(0.9356025796273888),
+    SHR(0.17081687924064806),   SHR(0.032281355871636178), SHR(0.0065894041742255282), SHR(0.0015531374585246044),
+    SHR(0.00049114518882630498)};
+FT_FUNC shreal shNorm(int l, int m) { return kFtShNorm[l * (l + 1) / 2 + m]; }
 
 // Y_j(ω), j < 36, ω a unit vector.
 FT_FUNC ShCoeffs shEval(shvec3 w) {
@@ -133,24 +138,37 @@ FT_FUNC shreal shComponent(shvec3 v, int axis) { return axis == 0 ? v.x : (axis 
 // Axis of the band-1 index m ∈ {−1, 0, 1}: Y_1 = √(3/4π)(y, z, x).
 FT_FUNC int shBand1Axis(int m) { return m == -1 ? 1 : (m == 0 ? 2 : 0); }
 
-// P^l_{i; a, b} of Ivanic & Ruedenberg Table 2 from band 1 and band l − 1.
-FT_INLINE shreal shRotP(ShRotation r, int i, int a, int b, int l) {
-  shreal ri1 = r.m[shRotationIndex(1, i, 1)], rim = r.m[shRotationIndex(1, i, -1)];
-  if (b == l) return ri1 * r.m[shRotationIndex(l - 1, a, l - 1)] - rim * r.m[shRotationIndex(l - 1, a, -l + 1)];
-  if (b == -l) return ri1 * r.m[shRotationIndex(l - 1, a, -l + 1)] + rim * r.m[shRotationIndex(l - 1, a, l - 1)];
-  return r.m[shRotationIndex(1, i, 0)] * r.m[shRotationIndex(l - 1, a, b)];
-}
+// P^l_{i; a, b} of Ivanic & Ruedenberg Table 2 from band 1 and band l − 1, as
+// a macro: a function taking the 286-entry ShRotation by value makes GLSL
+// copy it at every call site (llvmpipe then compiles for minutes). Indices
+// are clamped into the array: GLSL may evaluate both arms of ?:.
+// Storage of the matrices: the struct's array, unless the includer (a GLSL
+// shader) redirects it first. llvmpipe turns every dynamically indexed
+// access to a private array into a branch ladder over its elements (286
+// here): compiling the rotation took 20+ s; a shader maps these to a scratch
+// storage buffer instead (prt_multiple_scattering.comp.glsl).
+#ifndef SH_ROT_LOAD
+#define SH_ROT_LOAD(R_, I_) (R_).m[I_]
+#define SH_ROT_STORE(R_, I_, V_) (R_).m[I_] = (V_)
+#endif
+#define SH_ROT_AT(R_, L_, M_, N_) SH_ROT_LOAD(R_, clamp(shRotationIndex((L_), (M_), (N_)), 0, FT_SH_ROTATION_SIZE - 1))
+#define SH_ROT_P(R_, I_, A_, B_, L_)                                                                    \
+  ((B_) == (L_) ? SH_ROT_AT(R_, 1, I_, 1) * SH_ROT_AT(R_, (L_) - 1, A_, (L_) - 1) -                    \
+                      SH_ROT_AT(R_, 1, I_, -1) * SH_ROT_AT(R_, (L_) - 1, A_, -(L_) + 1)                \
+                : ((B_) == -(L_) ? SH_ROT_AT(R_, 1, I_, 1) * SH_ROT_AT(R_, (L_) - 1, A_, -(L_) + 1) +  \
+                                       SH_ROT_AT(R_, 1, I_, -1) * SH_ROT_AT(R_, (L_) - 1, A_, (L_) - 1) \
+                                 : SH_ROT_AT(R_, 1, I_, 0) * SH_ROT_AT(R_, (L_) - 1, A_, B_)))
 
 // The matrices M^0..M^{bands−1} of the rotation ω ↦ (rx·ω, ry·ω, rz·ω).
 FT_FUNC ShRotation shRotation(shvec3 rx, shvec3 ry, shvec3 rz, int bands) {
   ShRotation r;
-  for (int i = 0; i < FT_SH_ROTATION_SIZE; ++i) r.m[i] = SHR(0.0);
-  r.m[0] = SHR(1.0);
+  for (int i = 0; i < FT_SH_ROTATION_SIZE; ++i) SH_ROT_STORE(r, i, SHR(0.0));
+  SH_ROT_STORE(r, 0, SHR(1.0));
   if (bands < 2) return r;
   for (int m = -1; m <= 1; ++m) {
     int am = shBand1Axis(m);
     shvec3 row = am == 0 ? rx : (am == 1 ? ry : rz);
-    for (int n = -1; n <= 1; ++n) r.m[shRotationIndex(1, m, n)] = shComponent(row, shBand1Axis(n));
+    for (int n = -1; n <= 1; ++n) SH_ROT_STORE(r, shRotationIndex(1, m, n), shComponent(row, shBand1Axis(n)));
   }
   for (int l = 2; l < bands; ++l) {
     for (int m = -l; m <= l; ++m) {
@@ -160,24 +178,24 @@ FT_FUNC ShRotation shRotation(shvec3 rx, shvec3 ry, shvec3 rz, int bands) {
         int an = n < 0 ? -n : n;
         shreal denom = an == l ? shreal(2 * l * (2 * l - 1)) : shreal((l + n) * (l - n));
         shreal value = SHR(0.0);
-        if (am < l) value += sqrt(shreal((l + m) * (l - m)) / denom) * shRotP(r, 0, m, n, l);  // u U
+        if (am < l) value += sqrt(shreal((l + m) * (l - m)) / denom) * SH_ROT_P(r, 0, m, n, l);  // u U
         shreal v = SHR(0.5) * sqrt((SHR(1.0) + d) * shreal((l + am - 1) * (l + am)) / denom) * (SHR(1.0) - SHR(2.0) * d);
         shreal vv;
-        if (m == 0) vv = shRotP(r, 1, 1, n, l) + shRotP(r, -1, -1, n, l);
+        if (m == 0) vv = SH_ROT_P(r, 1, 1, n, l) + SH_ROT_P(r, -1, -1, n, l);
         else if (m > 0)
-          vv = shRotP(r, 1, m - 1, n, l) * (m == 1 ? SHR(1.4142135623730950488) : SHR(1.0)) -
-               (m == 1 ? SHR(0.0) : shRotP(r, -1, -m + 1, n, l));
+          vv = SH_ROT_P(r, 1, m - 1, n, l) * (m == 1 ? SHR(1.4142135623730950488) : SHR(1.0)) -
+               (m == 1 ? SHR(0.0) : SH_ROT_P(r, -1, -m + 1, n, l));
         else
-          vv = (m == -1 ? SHR(0.0) : shRotP(r, 1, m + 1, n, l)) +
-               shRotP(r, -1, -m - 1, n, l) * (m == -1 ? SHR(1.4142135623730950488) : SHR(1.0));
+          vv = (m == -1 ? SHR(0.0) : SH_ROT_P(r, 1, m + 1, n, l)) +
+               SH_ROT_P(r, -1, -m - 1, n, l) * (m == -1 ? SHR(1.4142135623730950488) : SHR(1.0));
         value += v * vv;
         if (m != 0 && am <= l - 2) {
           shreal w = SHR(-0.5) * sqrt(shreal((l - am - 1) * (l - am)) / denom);
-          shreal ww = m > 0 ? shRotP(r, 1, m + 1, n, l) + shRotP(r, -1, -m - 1, n, l)
-                            : shRotP(r, 1, m - 1, n, l) - shRotP(r, -1, -m + 1, n, l);
+          shreal ww = m > 0 ? SH_ROT_P(r, 1, m + 1, n, l) + SH_ROT_P(r, -1, -m - 1, n, l)
+                            : SH_ROT_P(r, 1, m - 1, n, l) - SH_ROT_P(r, -1, -m + 1, n, l);
           value += w * ww;
         }
-        r.m[shRotationIndex(l, m, n)] = value;
+        SH_ROT_STORE(r, shRotationIndex(l, m, n), value);
       }
     }
   }
@@ -190,15 +208,31 @@ FT_FUNC ShCoeffs shRotate(ShRotation r, ShCoeffs c, int bands) {
   for (int l = 0; l < bands; ++l)
     for (int m = -l; m <= l; ++m) {
       shreal s = SHR(0.0);
-      for (int n = -l; n <= l; ++n) s += r.m[shRotationIndex(l, m, n)] * c.c[shIndex(l, n)];
+      for (int n = -l; n <= l; ++n) s += SH_ROT_LOAD(r, shRotationIndex(l, m, n)) * c.c[shIndex(l, n)];
       o.c[shIndex(l, m)] = s;
     }
   return o;
 }
 
-// The zonal vector z (z[l] = c_l0 about +z) turned to the axis ξ (addition theorem).
-FT_FUNC ShCoeffs shRotateZonal(shreal z[FT_SH_BANDS], shvec3 xi, int bands) {
-  ShCoeffs y = shEval(xi);
+// Three functions (rgb) at once: M c per channel, one pass over the matrix.
+struct ShCoeffs3 {
+  shvec3 c[FT_SH_COEFFS];
+};
+FT_FUNC ShCoeffs3 shRotate3(ShRotation r, ShCoeffs3 c, int bands) {
+  ShCoeffs3 o;
+  for (int j = 0; j < FT_SH_COEFFS; ++j) o.c[j] = shvec3(SHR(0.0));
+  for (int l = 0; l < bands; ++l)
+    for (int m = -l; m <= l; ++m) {
+      shvec3 s = shvec3(SHR(0.0));
+      for (int n = -l; n <= l; ++n) s += SH_ROT_LOAD(r, shRotationIndex(l, m, n)) * c.c[shIndex(l, n)];
+      o.c[shIndex(l, m)] = s;
+    }
+  return o;
+}
+
+// A zonal vector z (z[l] = c_l0 about +z) turned to the axis ξ, given
+// y = Y(ξ) (addition theorem): c_lm = √(4π/(2l + 1)) z_l Y_lm(ξ).
+FT_FUNC ShCoeffs shZonalFromY(shreal z[FT_SH_BANDS], ShCoeffs y, int bands) {
   ShCoeffs o = shZero();
   for (int l = 0; l < bands; ++l) {
     shreal s = sqrt(SHR(12.566370614359172953850573533118) / shreal(2 * l + 1)) * z[l];
@@ -206,6 +240,7 @@ FT_FUNC ShCoeffs shRotateZonal(shreal z[FT_SH_BANDS], shvec3 xi, int bands) {
   }
   return o;
 }
+FT_FUNC ShCoeffs shRotateZonal(shreal z[FT_SH_BANDS], shvec3 xi, int bands) { return shZonalFromY(z, shEval(xi), bands); }
 
 FT_NAMESPACE_END
 #endif  // FT_SH_H

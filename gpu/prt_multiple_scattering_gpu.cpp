@@ -69,16 +69,27 @@ PrtMsGpuTables PrtMultipleScatteringGpu::tables(const FabricParams& fabric, int 
     t.phi = readBuffer<float>(out.id(), nPhi);
   }
   {
+    const size_t chunks = (size_t(thetaI) + FT_MS_CS_CHUNK - 1) / FT_MS_CS_CHUNK;
+    const size_t partialCount = size_t(t.thetaO) * chunks;
     const Buffer in = Buffer::create(nPhi * 4, t.phi.data());
     in.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TABLES);
+    const Buffer partial = Buffer::create(partialCount * FT_SH_COEFFS * 16);
+    partial.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
+    {
+      const Buffer u = params(FT_PRT_MS_CS, uint32_t(partialCount), 0, uint32_t(thetaI), uint32_t(phiNodes),
+                              uint32_t(t.thetaO), uint32_t(t.lambdaNodes), 0, fabric);
+      dispatchFlat(program_.id(), partialCount, FT_WG_PRT_MS, maxGroupsY_, "prt_multiple_scattering (C_S partial sums)");
+    }
+    partial.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TABLES);
     const Buffer out = Buffer::create(size_t(t.thetaO) * FT_SH_COEFFS * 16);
     out.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
-    const Buffer u = params(FT_PRT_MS_CS, uint32_t(t.thetaO), 0, uint32_t(thetaI), uint32_t(phiNodes),
+    const size_t entries = size_t(t.thetaO) * FT_SH_COEFFS;
+    const Buffer u = params(FT_PRT_MS_CS_SUM, uint32_t(entries), 0, uint32_t(thetaI), uint32_t(phiNodes),
                             uint32_t(t.thetaO), uint32_t(t.lambdaNodes), 0, fabric);
-    dispatchFlat(program_.id(), size_t(t.thetaO), FT_WG_PRT_MS, maxGroupsY_, "prt_multiple_scattering (C_S)");
-    const std::vector<float> raw = readBuffer<float>(out.id(), size_t(t.thetaO) * FT_SH_COEFFS * 4);
-    t.cs.resize(size_t(t.thetaO) * FT_SH_COEFFS * 3);
-    for (size_t i = 0; i < size_t(t.thetaO) * FT_SH_COEFFS; ++i)
+    dispatchFlat(program_.id(), entries, FT_WG_PRT_MS, maxGroupsY_, "prt_multiple_scattering (C_S)");
+    const std::vector<float> raw = readBuffer<float>(out.id(), entries * 4);
+    t.cs.resize(entries * 3);
+    for (size_t i = 0; i < entries; ++i)
       for (size_t ch = 0; ch < 3; ++ch) t.cs[i * 3 + ch] = raw[i * 4 + ch];
   }
   {
@@ -114,7 +125,8 @@ std::vector<glm::vec3> PrtMultipleScatteringGpu::evaluate(std::span<const PrtMsQ
   const Buffer tablesBuf = Buffer::create(packed.size() * 4, packed.data());
   const Buffer transferBuf = Buffer::create(transfer.size() * 4, transfer.data());
   const Buffer req = Buffer::create(std::max<size_t>(1, queries.size()) * sizeof(PrtMsQuery), queries.data());
-  const Buffer out = Buffer::create(std::max<size_t>(1, queries.size()) * 16);
+  // Results, then 286 floats of rotation scratch per query after 72 floats per query (the shader's layout).
+  const Buffer out = Buffer::create(std::max<size_t>(1, queries.size()) * (72 + FT_SH_ROTATION_SIZE) * 4);
   tablesBuf.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TABLES);
   transferBuf.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TRANSFER);
   req.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_REQUESTS);
@@ -140,7 +152,7 @@ std::vector<float> PrtMultipleScatteringGpu::shProbe(std::span<const glm::vec3> 
     q[i].cell = glm::uvec4(0u);
   }
   const Buffer req = Buffer::create(std::max<size_t>(1, q.size()) * sizeof(PrtMsQuery), q.data());
-  const Buffer out = Buffer::create(std::max<size_t>(1, q.size()) * 72 * 4);
+  const Buffer out = Buffer::create(std::max<size_t>(1, q.size()) * (72 + FT_SH_ROTATION_SIZE) * 4);
   req.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_REQUESTS);
   out.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
   const Buffer unused = bindPlaceholders({FT_SSBO_PRT_MS_TRANSFER, FT_SSBO_PRT_MS_TABLES});

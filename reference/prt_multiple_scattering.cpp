@@ -401,36 +401,27 @@ glm::dvec3 prtMsRadianceCpu(const PrtMsTables& tables, std::span<const double> a
   if (a.size() != kIirtfMatrixSize || bands < 1 || bands > FT_SH_BANDS)
     throw std::invalid_argument(fmt::format("prtMsRadianceCpu: {} matrix values, {} bands", a.size(), bands));
   const int J = bands * bands;
-  const glm::dvec3 light(q.light.x, q.light.y, q.light.z);
-  ShCoeffs cd;
-  if (q.light.w > 0.0f) {
-    const glm::dvec3 lk = prtMsCgLookup(double(q.light.w), tables.lambdaNodes);
-    PrtMsZonal g;
-    for (int l = 0; l < FT_SH_BANDS; ++l)
-      g.c[l] = glm::mix(tables.cg[size_t(lk.x) * FT_SH_BANDS + size_t(l)], tables.cg[size_t(lk.y) * FT_SH_BANDS + size_t(l)], lk.z);
-    cd = prtMsSgCoeffs(g, light, bands);
-  } else {
-    cd = shEval(light);
-  }
+  const glm::dvec3 lg = prtMsCgLookup(std::max(0.0, double(q.light.w)), tables.lambdaNodes);
+  PrtMsZonal g;
+  for (int l = 0; l < FT_SH_BANDS; ++l)
+    g.c[l] = glm::mix(tables.cg[size_t(lg.x) * FT_SH_BANDS + size_t(l)], tables.cg[size_t(lg.y) * FT_SH_BANDS + size_t(l)], lg.z);
+  const ShCoeffs cd = prtMsLightCoeffs(shEval(glm::dvec3(q.light.x, q.light.y, q.light.z)), g, q.light.w > 0.0f, bands);
+  const size_t plane = size_t(kJ) * kJ;
+  ShCoeffs3 cT;
+  for (int j = 0; j < kJ; ++j) cT.c[j] = glm::dvec3(0.0);
+  for (int j1 = 0; j1 < J; ++j1)
+    for (int j0 = 0; j0 < J; ++j0) {
+      const size_t at = size_t(j1) * kJ + size_t(j0);
+      cT.c[j1] += glm::dvec3(a[at], a[at + plane], a[at + 2 * plane]) * cd.c[j0];
+    }
   const glm::dvec3 t(q.tangent.x, q.tangent.y, q.tangent.z), wo(q.wo.x, q.wo.y, q.wo.z);
-  const ShRotation R = prtMsOmegaORotation(t, wo, bands);
+  const ShCoeffs3 c = shRotate3(prtMsOmegaORotation(t, wo, bands), cT, bands);
   const glm::dvec3 lk = prtMsCsLookup(prtMsThetaO(t, wo), tables.thetaO);
   glm::dvec3 L(0.0);
-  for (int ch = 0; ch < 3; ++ch) {
-    ShCoeffs cT = shZero();
-    for (int j1 = 0; j1 < J; ++j1) {
-      double sum = 0.0;
-      for (int j0 = 0; j0 < J; ++j0) sum += a[(size_t(ch) * kJ + size_t(j1)) * kJ + size_t(j0)] * cd.c[j0];
-      cT.c[j1] = sum;
-    }
-    const ShCoeffs c = shRotate(R, cT, bands);
-    double dotv = 0.0;
-    for (int j = 0; j < J; ++j) {
-      const double s0 = tables.cs[(size_t(lk.x) * kJ + size_t(j)) * 3 + size_t(ch)];
-      const double s1 = tables.cs[(size_t(lk.y) * kJ + size_t(j)) * 3 + size_t(ch)];
-      dotv += glm::mix(s0, s1, lk.z) * c.c[j];
-    }
-    L[ch] = dotv;
+  for (int j = 0; j < J; ++j) {
+    const double* s0 = &tables.cs[(size_t(lk.x) * kJ + size_t(j)) * 3];
+    const double* s1 = &tables.cs[(size_t(lk.y) * kJ + size_t(j)) * 3];
+    L += glm::mix(glm::dvec3(s0[0], s0[1], s0[2]), glm::dvec3(s1[0], s1[1], s1[2]), lk.z) * c.c[j];
   }
   return L;
 }
