@@ -77,6 +77,7 @@ PrtMsTables prtMsTablesCpu(const FabricParams& p, int nTheta, int nPhi) {
 
 struct IirtfScene::Impl {
   std::vector<ExemplarSegment> segments;
+  glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
   std::vector<glm::vec4> points;
   std::vector<uint32_t> firstVertex, fiber;
   RTCDevice device = nullptr;
@@ -102,6 +103,8 @@ IirtfScene::IirtfScene(std::span<const ExemplarSegment> tiled) : impl_(std::make
     m.points.emplace_back(s.b, s.radius);
     m.firstVertex.push_back(uint32_t(2 * k));
     m.fiber.push_back(s.fiber);
+    m.lo = glm::min(m.lo, glm::min(s.a, s.b) - s.radius);
+    m.hi = glm::max(m.hi, glm::max(s.a, s.b) + s.radius);
   }
   m.device = rtcNewDevice(nullptr);
   if (!m.device) throw std::runtime_error("Embree: rtcNewDevice failed");
@@ -124,6 +127,13 @@ IirtfScene::~IirtfScene() = default;
 IirtfScene::IirtfScene(IirtfScene&&) noexcept = default;
 IirtfScene& IirtfScene::operator=(IirtfScene&&) noexcept = default;
 const std::vector<ExemplarSegment>& IirtfScene::segments() const { return impl_->segments; }
+
+bool IirtfScene::entersThroughSide(glm::vec3 p, glm::vec3 w0) const {
+  if (!(w0.z > 0.0f)) return true;
+  const float t = std::max(0.0f, (impl_->hi.z - p.z) / w0.z);
+  const glm::vec3 q = p + t * w0;
+  return q.x < impl_->lo.x || q.x > impl_->hi.x || q.y < impl_->lo.y || q.y > impl_->hi.y;
+}
 
 namespace {
 struct IgnoreFiberContext {
@@ -244,7 +254,7 @@ glm::dvec3 walk(const IirtfScene& scene, const ShadingParams& light, double albe
     const glm::vec3 t = tangentOf(seg);
     if (nee) {
       ++rays;
-      if (!scene.occluded(p, w0, seg.fiber))
+      if (!scene.entersThroughSide(p, w0) && !scene.occluded(p, w0, seg.fiber))
         L += throughput * albedo * glm::dvec3(ftFiberDirect(light, 0, t, hit.normal, wo));
     }
     const FiberScatter sc(light, t, hit.normal, wo);

@@ -55,6 +55,10 @@ class IirtfScene {
   };
   bool intersect(glm::vec3 org, glm::vec3 dir, uint32_t ignoreFiber, Hit& hit) const;
   bool occluded(glm::vec3 org, glm::vec3 dir, uint32_t ignoreFiber) const;
+  // The light of an infinite flat fabric reaches p from ω0 only through its top face [F]: true
+  // when the ray leaves the tiled copies' box through a side below their top (it would cross
+  // fabric beyond the tiling), or ω0 points down.
+  bool entersThroughSide(glm::vec3 p, glm::vec3 w0) const;
   const std::vector<ExemplarSegment>& segments() const;
   struct Impl;
 
