@@ -106,8 +106,8 @@ else
 fi
 
 # The IIRTF bake of 004 §4.2 (one shard per cell, paths keyed by segment and
-# path index) at CI size: 64 segments, 3 × 3 tiles, ~8 cells of 300 paths.
-IIRTF=(bake iirtf --fibers-per-ply 2 --spans 4 --subdivisions 1 --tiles 3 --cell-size 0.05 --paths 300 --ell-paths 200)
+# path index) at CI size: the default block (768 segments), 3 × 3 tiles, a few cells of 5,000 paths.
+IIRTF=(bake iirtf --tiles 3 --cell-size 0.12 --paths 5000 --ell-paths 200)
 if "$FT" "${IIRTF[@]}" --out "$TMP/iirtf-one.bin" >"$TMP/out" 2>"$TMP/err"; then
   if timeout 120 "${MPIRUN[@]}" -np 2 "$FT" "${IIRTF[@]}" --out "$TMP/iirtf-np2.bin" >"$TMP/out" 2>"$TMP/err"; then
     if cmp "$TMP/iirtf-one.bin" "$TMP/iirtf-np2.bin"; then
