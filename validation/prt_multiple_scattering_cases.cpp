@@ -405,23 +405,25 @@ CaseResult runFrameCase(ValidationContext& ctx, const std::string& name) {
 // light ω_d, orthographic eye rays along −ω_o over the centre block; at each first hit y (segment
 // k): truth = E[h(ω_i)/p(ω_i) · T(ω_d, ω_i, y)] with ω_i from the BCSDF sampling and T the path
 // radiance from y (reference/prt_multiple_scattering.h), PRT = L̃ from A_C of k's cell. The
-// relative error of the average intensity over the image, per SH order L. Informational (not
-// gating): see the docs' "What remains".
+// relative error of the average intensity over the image, per SH order L; L = 4 gates.
 CaseResult runEndToEndCase(ValidationContext&, const std::string& name) {
   CaseResult r = start(name);
   r.path = "";
   const FabricParams p = findFabricPreset("fleece").params();
   const auto t0 = Clock::now();
   const PrtMsTables tables = prtMsTablesCpu(p, 1024, 256);
-  const ExemplarSettings ex;  // the default block: 6 fibers per ply, 768 segments
+  // The preset's fiber count (7,680 segments): on the sparse 6-fibers-per-ply CI block few paths
+  // scatter and L̃ at low L was several times the truth (docs/prt-multiple-scattering.md).
+  ExemplarSettings ex;
+  ex.fibersPerPly = 0;
   const Exemplar block = makePlainWeaveExemplar(ex);
   IirtfSettings is;
-  is.tiles = 7;  // grazing light reaches the centre block through the tiling's sides less
-  is.pathsPerCell = 4000;
+  is.tiles = 5;  // grazing light reaches the centre block through the tiling's sides less
+  is.pathsPerCell = 3000;
   is.ellPaths = 300;
   const IirtfScene scene(tileExemplar(block, is.tiles));
   const MeanFreePath ell = estimateMeanFreePath(scene, block, is.tiles, p, is);
-  const IirtfCells cells = makeIirtfCells(block, ell.ell > 0.0 ? ell.ell : block.period / 2.0);
+  const IirtfCells cells = makeIirtfCells(block, ell.ell > 0.0 ? 2.0 * ell.ell : block.period / 2.0);  // ℓ̃ = 2ℓ (004: ≤ 2ℓ)
   std::vector<std::vector<double>> A(cells.count());
   uint64_t rays = 0;
   const auto b0 = Clock::now();
@@ -440,7 +442,7 @@ CaseResult runEndToEndCase(ValidationContext&, const std::string& name) {
   light.flags = uvec4(1u, FT_SHADING_KHUNGURN, 0u, 0u);
   double ztop = -1e30;
   for (const ExemplarSegment& sg : block.segments) ztop = std::max({ztop, double(sg.a.z), double(sg.b.z)});
-  const int side = 32, spp = 32;
+  const int side = 24, spp = 24;
   const size_t S = block.segments.size();
   glm::dvec3 truth(0.0), truthMid(0.0);
   double sampleSq = 0.0;  // Σ over camera samples of (intensity)², for the truth's standard error
@@ -502,13 +504,12 @@ CaseResult runEndToEndCase(ValidationContext&, const std::string& name) {
                           intensity(prt[4]) / double(std::max<uint64_t>(1, hits)), ell.ell, cells.count(), cells.nx,
                           cells.ny, cells.nz);
   r.metrics = {
-      Metric{"e2e.rel_err_L4", rel[4], 1e9, "relative",
+      Metric{"e2e.rel_err_L4", rel[4], 3.0 * sigmaRel + 0.10, "relative",
              fmt::format("|avg L̃^multi − avg path-traced multiple scattering| / avg, L = 4 (Fleece's order, 004 Table 1); "
-                         "all L: {} (σ of the truth {:.3f}). NOT GATING: on this sparse exemplar the PRT is several times "
-                         "the path-traced value at low L and erratic in L (docs/prt-multiple-scattering.md, \"What "
-                         "remains\"); reported for reading until that is understood",
-                         perL, sigmaRel),
-             false},
+                         "all L: {}. Tolerance: 3σ of the truth's Monte Carlo mean (σ = {:.3f}, measured) + 0.10 for the "
+                         "approximation itself (cell average at μ_k for the hit, SH truncation, A_C noise of 3,000 "
+                         "paths per cell; measured 0.06 at L = 4, 0.04–0.25 at L = 1–5)",
+                         perL, sigmaRel)},
       Metric{"e2e.rel_err_mid_L4", relMid[4], 1e9, "relative",
              fmt::format("the same against the path-traced estimate at the hit segment's midpoint μ_k (where the "
                          "IIRTF is defined), all L: {}; truth at μ_k / truth at the hit: {:.3f}",
