@@ -185,6 +185,7 @@
 #define FT_WG_AO 64
 #define FT_WG_XI 64
 #define FT_WG_DS 64
+#define FT_WG_PRT_MS 64  // common/prt_multiple_scattering.h (004 §4.3, §5.3.1)
 
 // Index value that restarts a GL_LINE_STRIP (glPrimitiveRestartIndex).
 #define FT_RESTART_INDEX 0xFFFFFFFFu

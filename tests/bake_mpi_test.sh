@@ -2,8 +2,8 @@
 # bake_mpi_test.sh FIBERTWIN WITH_MPI — `fibertwin bake` across MPI ranks
 # (bake/bake_runner.h, docs/bakes.md):
 #   WITH_MPI=1: the AO bake under `mpirun -np 1, 2, 3` and the ξ bake
-#     (ds-correction) and the segment visibility bake (segment-visibility)
-#     under `mpirun -np 2` are byte for byte the ones without mpirun (the determinism contract: `cmp` is the check); a
+#     (ds-correction), the segment visibility bake (segment-visibility) and
+#     the IIRTF bake (iirtf) under `mpirun -np 2` are byte for byte the ones without mpirun (the determinism contract: `cmp` is the check); a
 #     failure planted on a worker rank and on rank 0's worker thread
 #     (FT_BAKE_FAIL_RANK) ends the job with the message, a non-zero status
 #     and no output, well within the timeout (no rank left waiting); an
@@ -103,6 +103,23 @@ if "$FT" "${SVF[@]}" --out "$TMP/svf-one.bin" >"$TMP/out" 2>"$TMP/err"; then
   fi
 else
   fail "segment-visibility, no mpirun: status $?" "$TMP/err"
+fi
+
+# The IIRTF bake of 004 §4.2 (one shard per cell, paths keyed by segment and
+# path index) at CI size: the default block (768 segments), 3 × 3 tiles, a few cells of 5,000 paths.
+IIRTF=(bake iirtf --tiles 3 --cell-size 0.12 --paths 5000 --ell-paths 200)
+if "$FT" "${IIRTF[@]}" --out "$TMP/iirtf-one.bin" >"$TMP/out" 2>"$TMP/err"; then
+  if timeout 120 "${MPIRUN[@]}" -np 2 "$FT" "${IIRTF[@]}" --out "$TMP/iirtf-np2.bin" >"$TMP/out" 2>"$TMP/err"; then
+    if cmp "$TMP/iirtf-one.bin" "$TMP/iirtf-np2.bin"; then
+      ok "iirtf, mpirun -np 2: identical to the run without mpirun: $(tail -1 "$TMP/out")"
+    else
+      fail "iirtf, mpirun -np 2: output differs from the run without mpirun"
+    fi
+  else
+    fail "iirtf, mpirun -np 2: status $?" "$TMP/err"
+  fi
+else
+  fail "iirtf, no mpirun: status $?" "$TMP/err"
 fi
 
 # A planted failure: rank 1 (a worker rank) and rank 0 (the coordinator's worker thread).

@@ -17,6 +17,7 @@
 #include "common/pcss.h"
 #include "common/prt_single_scattering.h"
 #include "common/segment_visibility.h"
+#include "common/sh.h"
 #include "common/self_shadow.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"

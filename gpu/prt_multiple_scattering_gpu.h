@@ -1,0 +1,56 @@
+// prt_multiple_scattering_gpu.h — the GPU twin of local multiple scattering of
+// 004 §4.3 and §5.3.1 (common/prt_multiple_scattering.h,
+// prt_multiple_scattering.comp.glsl; docs/prt-multiple-scattering.md): the
+// tables C_S and C_G baked in float, L̃^multi per query from given A_C
+// matrices and tables, and an SH probe (Y and its rotation) for the identity
+// checks. The IIRTF path tracing stays on the CPU (Embree). Every call
+// uploads, dispatches and reads back.
+#pragma once
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/constants.h"
+#include "common/prt_multiple_scattering.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_objects.h"
+
+namespace ft {
+
+struct PrtMsGpuTables {
+  int thetaO = FT_MS_THETA_O, lambdaNodes = FT_MS_LAMBDA_NODES;
+  std::vector<float> phi;  // [2][θ_i][36] (pass 0)
+  std::vector<float> cs;   // [θ_o][36][rgb]
+  std::vector<float> cg;   // [λ node][6]
+};
+
+class PrtMultipleScatteringGpu {
+ public:
+  // defines: extra preprocessor symbols (fault injection, validation/faults.h).
+  // std::runtime_error when the driver has fewer than FT_UBO_PRT_MS + 1
+  // uniform-buffer bindings or FT_SSBO_PRT_MS_TABLES + 1 storage bindings.
+  explicit PrtMultipleScatteringGpu(const GlInfo& gl, const std::vector<std::string>& defines = {});
+
+  PrtMsGpuTables tables(const FabricParams& fabric, int thetaINodes = FT_MS_THETA_I_NODES,
+                        int phiNodes = FT_MS_PHI_NODES);
+  // rgb L̃^multi per query; transfer = cells × kIirtf matrix floats ([cell][ch][j1][j0]);
+  // cs = [θ_o][36][rgb] (thetaO rows), cg = [λ][6].
+  std::vector<glm::vec3> evaluate(std::span<const PrtMsQuery> queries, std::span<const float> transfer, int bands,
+                                  std::span<const float> cs, int thetaO, std::span<const float> cg, int lambdaNodes);
+  // Per direction ω and rotation rows (rx, ry; rz = rx × ry): Y(ω) then M(R) Y(ω), 72 floats.
+  std::vector<float> shProbe(std::span<const glm::vec3> directions, std::span<const glm::vec3> rx,
+                             std::span<const glm::vec3> ry);
+  int uniformBufferBindings() const { return uboBindings_; }
+
+ private:
+  Buffer params(uint32_t mode, uint32_t count, uint32_t bands, uint32_t thetaI, uint32_t phi, uint32_t thetaO,
+                uint32_t lambdas, uint32_t cells, const FabricParams& fabric);
+  int maxGroupsY_ = 65535;
+  int uboBindings_ = 0;
+  Program program_;
+};
+
+}  // namespace ft
