@@ -537,7 +537,30 @@ std::vector<Approximation> envFidelityRows() {
   env.environmentTableDims = kSrbfTableCiDims;
   AppearanceOptions envShadow = env;
   envShadow.selfShadow = true;
-  return {{"environment", env}, {"environment+self-shadow", envShadow}};
+  // 001 eq. 17: each lobe times ξ_M ξ_N Ψ_M Ψ_N at ω_d := μ_j from the CI ξ
+  // bake of the dual-scattering rows (below); its Ψ replaces the self-shadow T.
+  AppearanceOptions envXi = envShadow;
+  envXi.dualScattering = true;
+  envXi.dsCorrectionFile = std::filesystem::path("(ci bake)");  // set per case (fidelityXiFile)
+  return {{"environment", env}, {"environment+self-shadow", envShadow}, {"environment+xi", envXi}};
+}
+
+// ---- Soft shadows (001 §4.5's PCSS, docs/soft-shadows.md) in the fidelity table ----
+// Light "front-soft": the front light as a cone of the frame's default
+// angular radius (AppearanceOptions::lightAngularRadius, 0.1 rad = 5.7°),
+// whose reference traces each shadow ray along a direction drawn uniformly
+// over the cone (TraceOptions::lightAngularRadius): soft shadows in the
+// truth. The hard shadow map beside PCSS on the same map. Informational.
+bool softLight(const std::string& light) {
+  return light.size() > 5 && light.compare(light.size() - 5, 5, "-soft") == 0;
+}
+std::vector<Approximation> softFidelityRows() {
+  AppearanceOptions hard = AppearanceOptions::none();
+  hard.selfShadow = true;
+  hard.shadowMap = true;
+  AppearanceOptions soft = hard;
+  soft.softShadows = true;
+  return {{"self-shadow+shadow-map", hard}, {"self-shadow+soft-shadows", soft}};
 }
 
 // ---- Dual scattering (001 §4.1, §4.3) in the fidelity table ----
@@ -601,7 +624,10 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   const bool ambientOnly = light.rfind("ambient", 0) == 0;  // the AO rows (above)
   const bool envLight = light == "env";                     // the SRBF rows (above)
   const bool multiple = multipleScatteringLight(light);  // the dual-scattering rows (above)
-  const std::string baseLight = multiple ? light.substr(0, light.size() - 3) : light;
+  const bool soft = softLight(light);                    // the soft-shadow rows (above)
+  const std::string baseLight = multiple ? light.substr(0, light.size() - 3)
+                                : soft   ? light.substr(0, light.size() - 5)
+                                         : light;
   Lighting lighting = caseLighting(fabric, lightDirection(ambientOnly || envLight ? "front" : baseLight, in.camera));
   if (envLight) {
     lighting.lights.clear();
@@ -641,6 +667,7 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
           o.multipleScattering = true;
           o.maxDepth = kDsFidelityDepth;
         }
+        if (soft) o.lightAngularRadius = row.options.lightAngularRadius;  // the frame's cone
         std::unique_ptr<EnvironmentSampler> sampler;
         if (envLight) {  // the map itself, path traced
           sampler = std::make_unique<EnvironmentSampler>(*fidelitySky());
@@ -675,6 +702,19 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
     }
     r.metrics.push_back(Metric{"mean.gpu_over_truth", sumTruth > 0.0 ? sumGpu / sumTruth : std::nan(""), 0.0,
                                "ratio", "informational: mean radiance of the frame over the reference's, both covered",
+                               false});
+  }
+  {  // Colour: mean blue over mean red, the frame's over the reference's (> 1: the frame is bluer).
+    glm::dvec3 g(0.0), t(0.0);
+    for (size_t p = 0; p + 3 < img.pixels.size() && p + 3 < truth.image.pixels.size(); p += 4) {
+      if (img.pixels[p + 3] < 0.5f || truth.image.pixels[p + 3] < 0.5f) continue;
+      g += glm::dvec3(img.pixels[p], img.pixels[p + 1], img.pixels[p + 2]);
+      t += glm::dvec3(truth.image.pixels[p], truth.image.pixels[p + 1], truth.image.pixels[p + 2]);
+    }
+    const double ratio = g.x > 0.0 && t.x > 0.0 && t.z > 0.0 ? (g.z / g.x) / (t.z / t.x) : std::nan("");
+    r.metrics.push_back(Metric{"blue_over_red.gpu_over_truth", ratio, 0.0, "ratio",
+                               "informational: (mean B / mean R) of the frame over the reference's, both covered (> 1: "
+                               "bluer)",
                                false});
   }
   if (ctx.options().images) {
@@ -914,6 +954,11 @@ void addShadingCases(ValidationContext& ctx, std::vector<ValidationCase>& out) {
       const std::string name = fmt::format("shading/fidelity/{}/{}/{}", kFullFabric, light, row.name);
       out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, light, row, name); }});
     }
+  // Soft shadows: on the built-in scene only (informational; CI time).
+  for (const Approximation& row : ctx.options().model ? std::vector<Approximation>{} : softFidelityRows()) {
+    const std::string name = fmt::format("shading/fidelity/{}/front-soft/{}", kFullFabric, row.name);
+    out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, kFullFabric, "front-soft", row, name); }});
+  }
   // Path traced under the sky: on the built-in scene only (informational; CI time).
   for (const Approximation& row : ctx.options().model ? std::vector<Approximation>{} : envFidelityRows()) {
     const std::string name = fmt::format("shading/fidelity/{}/env/{}", kFullFabric, row.name);
