@@ -440,6 +440,25 @@ TEST(FiberTrace, DirectShadingMatchesEquation6) {
 
 // ---- Shadows --------------------------------------------------------------
 
+// The shadow tests' scene: two parallel fibers along x, the lower (radius 1)
+// at the origin, the upper (radius 0.15) at y = 2.5, z = 0.6; and their
+// shading: black BCSDF (F = 0 at θ_i = 0), k_d = 1, one light of irradiance 1
+// straight above (+y), so L = V max(0, n·ω_i)/π.
+const Cylinder kLowerFiber{{0, 0, 0}, {1, 0, 0}, 1.0}, kUpperFiber{{0, 2.5, 0.6}, {1, 0, 0}, 0.15};
+FiberTraceScene twoFiberScene() {
+  return FiberTraceScene(
+      makeGeometry(straight({0, 0, 0}, {1, 0, 0}, 1.0f, 0) + straight({0, 2.5f, 0.6f}, {1, 0, 0}, 0.15f, 1)), onePly());
+}
+ShadingParams diffuseLightAbove() {
+  Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
+  ShadingParams s = shading(paramsOf(black));
+  s.flags.x = 1;
+  s.lightDirection[0] = glm::vec4(0, 1, 0, 0);
+  s.lightIrradiance[0] = glm::vec4(1, 1, 1, 0);
+  s.diffuse = glm::vec4(1, 1, 1, 0);
+  return s;
+}
+
 // Light straight above (+y) two parallel fibers along x: the lower one
 // (radius 1 at the origin) is seen from +z; its visible point at height y is
 // z = √(1 − y²), lit for y > 0 and shadowed where the vertical through it
@@ -447,16 +466,10 @@ TEST(FiberTrace, DirectShadingMatchesEquation6) {
 // i.e. y ∈ (0.661, 0.893). f vanishes there (C_R = C_TT = 0 and θ_i = 0 give
 // F = 0), so L = V max(0, n·ω_i)/π with k_d = 1 and E = 1.
 TEST(FiberTrace, ShadowsFallWhereTheUpperFiberBlocksTheLight) {
-  const Cylinder lower{{0, 0, 0}, {1, 0, 0}, 1.0}, upper{{0, 2.5, 0.6}, {1, 0, 0}, 0.15};
-  const FiberTraceScene scene(
-      makeGeometry(straight({0, 0, 0}, {1, 0, 0}, 1.0f, 0) + straight({0, 2.5f, 0.6f}, {1, 0, 0}, 0.15f, 1)), onePly());
+  const Cylinder &lower = kLowerFiber, &upper = kUpperFiber;
+  const FiberTraceScene scene = twoFiberScene();
   const Camera cam = farCamera({0, 0.75f, 0}, 50.0f, 5.0f, 4, 200);  // 0.025 units per pixel at the target
-  Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
-  ShadingParams s = shading(paramsOf(black));
-  s.flags.x = 1;
-  s.lightDirection[0] = glm::vec4(0, 1, 0, 0);
-  s.lightIrradiance[0] = glm::vec4(1, 1, 1, 0);
-  s.diffuse = glm::vec4(1, 1, 1, 0);
+  const ShadingParams s = diffuseLightAbove();
   TraceOptions o;
   o.samplesPerPixel = 64;
   const TraceResult res = traceFibers(scene, cam, s, constantTable(glm::vec3(0.0f)), o);
@@ -509,16 +522,10 @@ TEST(FiberTrace, ShadowsFallWhereTheUpperFiberBlocksTheLight) {
 // each at 0.025 units per pixel with 0.05 < V < 0.95). Directions drawn uniform in θ instead of
 // in cos θ (the cone's centre over-weighted) miss by ~0.08 V mid-penumbra.
 TEST(FiberTrace, ConeLightPenumbraIsTheVisibleFractionOfTheCone) {
-  const Cylinder lower{{0, 0, 0}, {1, 0, 0}, 1.0}, upper{{0, 2.5, 0.6}, {1, 0, 0}, 0.15};
-  const FiberTraceScene scene(
-      makeGeometry(straight({0, 0, 0}, {1, 0, 0}, 1.0f, 0) + straight({0, 2.5f, 0.6f}, {1, 0, 0}, 0.15f, 1)), onePly());
+  const Cylinder &lower = kLowerFiber, &upper = kUpperFiber;
+  const FiberTraceScene scene = twoFiberScene();
   const Camera cam = farCamera({0, 0.75f, 0}, 50.0f, 5.0f, 4, 200);
-  Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
-  ShadingParams s = shading(paramsOf(black));
-  s.flags.x = 1;
-  s.lightDirection[0] = glm::vec4(0, 1, 0, 0);
-  s.lightIrradiance[0] = glm::vec4(1, 1, 1, 0);
-  s.diffuse = glm::vec4(1, 1, 1, 0);
+  const ShadingParams s = diffuseLightAbove();
   const double alpha = 0.05;
   TraceOptions o;
   o.samplesPerPixel = 4096;
