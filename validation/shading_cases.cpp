@@ -721,7 +721,10 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
     r.images.push_back(ctx.saveImage(toRgba(img), name + "-gpu"));
     r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
     r.images.push_back(ctx.saveImage(flipImage(flipL), name + "-flip"));
-    r.imageCaptions = {std::string("GPU, approximations: ") + row.name, "all-fiber reference with shadow rays",
+    r.imageCaptions = {std::string("GPU, approximations: ") + row.name,
+                       envLight ? "all-fiber reference, path traced under the map (depth 8)"
+                       : soft   ? "all-fiber reference, shadow rays through the light's cone"
+                                : "all-fiber reference with shadow rays",
                        "LDR-FLIP"};
   }
   r.details = fmt::format("fabric {}, light {}, approximations {}; reference: {} curve segments", fabric, light,
