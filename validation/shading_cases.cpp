@@ -37,6 +37,7 @@
 #include "scene/lighting.h"
 #include "validation/bcsdf_oracle.h"
 #include "validation/direct_compare.h"
+#include "validation/fidelity_xi.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -568,35 +569,11 @@ std::vector<Approximation> softFidelityRows() {
 // rows ("front-ms", "back-ms") are judged against the path-traced all-fiber
 // reference (multiple scattering, depth 16, the GPU's 4 sample positions),
 // with the rows without it beside them. The ξ row reads a CI-size ξ bake of
-// the preset and fabric (the xi/bake settings: N_v = 8, 4 × 4 directions,
-// 16 spp, 3 periods; ~3 s), written to a temporary file as `render
-// --ds-correction` reads one. Informational: docs/shaded-frame.md.
+// the preset and fabric (validation/fidelity_xi.h). Informational:
+// docs/shaded-frame.md.
 constexpr int kDsFidelityDepth = 16;
 bool multipleScatteringLight(const std::string& light) {
   return light.size() > 3 && light.compare(light.size() - 3, 3, "-ms") == 0;
-}
-std::filesystem::path fidelityXiFile(ValidationContext& ctx, const YarnPreset& preset, const std::string& fabric) {
-  return ctx.cached(CacheKey<std::filesystem::path>{"shading/fidelity-xi/" + preset.name + "/" + fabric}, [&] {
-    DsCorrectionSettings st;
-    st.yarn = preset.name;
-    st.presetOverrides = ctx.options().presetOverrides;
-    st.fabric = fabric;
-    st.height = 8;
-    st.thetaSamples = 4;
-    st.phiSamples = 4;
-    st.pixelsPerTexel = 2;
-    st.samplesPerPixel = 16;
-    st.periods = 3;
-    const DsCorrectionScene scene(st);
-    std::vector<DsDirectionSums> sums;
-    for (int d = 0; d < scene.directionCount(); ++d) sums.push_back(scene.trace(d));
-    const DsCorrectionTextures t = factorDsCorrection(scene.layout(), sums, 16.0 * 2 * 2);
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / fmt::format("fibertwin-ds-fidelity-{}", ::getpid());
-    std::filesystem::create_directories(dir);
-    const std::filesystem::path file = dir / (preset.name + "-" + fabric + ".bin");
-    writeDsCorrection(file, t, fmt::format(R"({{"yarn": "{}", "fabric": "{}"}})", preset.name, fabric));
-    return file;
-  });
 }
 std::vector<Approximation> dsFidelityRows() {
   AppearanceOptions selfShadow = AppearanceOptions::none();
