@@ -449,6 +449,18 @@ FiberTraceScene twoFiberScene() {
   return FiberTraceScene(
       makeGeometry(straight({0, 0, 0}, {1, 0, 0}, 1.0f, 0) + straight({0, 2.5f, 0.6f}, {1, 0, 0}, 0.15f, 1)), onePly());
 }
+// The points of the lower fiber seen through the 8 × 8 sub-rays of pixel
+// (2, y) (those the upper fiber hides, or that miss, are left out).
+std::vector<dvec3> lowerFootprint(const Camera& cam, int y) {
+  std::vector<dvec3> points;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const Ray ray = pixelRay(cam, 2 + (i + 0.5) / 8, y + (j + 0.5) / 8);
+      const std::optional<double> tl = hit(ray, kLowerFiber), tu = hit(ray, kUpperFiber);
+      if (tl && !(tu && *tu < *tl)) points.push_back(ray.o + *tl * ray.d);
+    }
+  return points;
+}
 ShadingParams diffuseLightAbove() {
   Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
   ShadingParams s = shading(paramsOf(black));
@@ -479,18 +491,13 @@ TEST(FiberTrace, ShadowsFallWhereTheUpperFiberBlocksTheLight) {
     // Classify the footprint of the column-2 pixel on 8×8 sub-rays.
     int onLower = 0, shadowed = 0, facing = 0;
     double expected = 0.0;
-    for (int i = 0; i < 8; ++i)
-      for (int j = 0; j < 8; ++j) {
-        const Ray ray = pixelRay(cam, 2 + (i + 0.5) / 8, y + (j + 0.5) / 8);
-        const std::optional<double> tl = hit(ray, lower), tu = hit(ray, upper);
-        if (!tl || (tu && *tu < *tl)) continue;
-        ++onLower;
-        const dvec3 p = ray.o + *tl * ray.d;
-        const bool blocked = hit({p, {0, 1, 0}}, upper).has_value();
-        shadowed += blocked;
-        facing += normalAt(lower, p).y > 0.0;
-        if (!blocked) expected += std::max(0.0, normalAt(lower, p).y) / kPi / 64.0;
-      }
+    for (const dvec3& p : lowerFootprint(cam, y)) {
+      ++onLower;
+      const bool blocked = hit({p, {0, 1, 0}}, upper).has_value();
+      shadowed += blocked;
+      facing += normalAt(lower, p).y > 0.0;
+      if (!blocked) expected += std::max(0.0, normalAt(lower, p).y) / kPi / 64.0;
+    }
     // Only footprints on the lower fiber with n·ω_i of one sign: elsewhere the
     // kink of max(0, n·ω_i) or an edge makes 64 jittered samples and 64
     // midpoints differ by more than the tolerance.
@@ -557,21 +564,16 @@ TEST(FiberTrace, ConeLightPenumbraIsTheVisibleFractionOfTheCone) {
   for (int y = 0; y < cam.height; ++y) {
     int onLower = 0, facing = 0, umbra = 0;
     double expected = 0.0, vMean = 0.0, shadeMax = 0.0;
-    for (int i = 0; i < 8; ++i)
-      for (int j = 0; j < 8; ++j) {
-        const Ray ray = pixelRay(cam, 2 + (i + 0.5) / 8, y + (j + 0.5) / 8);
-        const std::optional<double> tl = hit(ray, lower), tu = hit(ray, upper);
-        if (!tl || (tu && *tu < *tl)) continue;
-        ++onLower;
-        const dvec3 p = ray.o + *tl * ray.d;
-        const double shade = std::max(0.0, normalAt(lower, p).y) / kPi;
-        const double v = visibility(p.y);
-        facing += normalAt(lower, p).y > 0.0;
-        umbra += v == 0.0;
-        expected += shade * v / 64.0;
-        vMean += v / 64.0;
-        shadeMax = std::max(shadeMax, shade);
-      }
+    for (const dvec3& p : lowerFootprint(cam, y)) {
+      ++onLower;
+      const double shade = std::max(0.0, normalAt(lower, p).y) / kPi;
+      const double v = visibility(p.y);
+      facing += normalAt(lower, p).y > 0.0;
+      umbra += v == 0.0;
+      expected += shade * v / 64.0;
+      vMean += v / 64.0;
+      shadeMax = std::max(shadeMax, shade);
+    }
     if (onLower < 64 || (facing > 0 && facing < 64)) continue;
     const float got = res.image.at(2, y)[1];
     if (umbra == 64) {
@@ -674,12 +676,7 @@ TEST(FiberTrace, TheSameFiberFurtherAlongItsYarnCastsShadows) {
   const FiberTraceScene scene(makeGeometry(strips), onePly());
   EXPECT_EQ(scene.fiberCount(), 1u);
   const Camera cam = farCamera({-1.5f, 1.0f, 0}, 100.0f, 4.0f, 32, 32);  // 8 px per unit
-  Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
-  ShadingParams s = shading(paramsOf(black));
-  s.flags.x = 1;
-  s.lightDirection[0] = glm::vec4(0, 1, 0, 0);
-  s.lightIrradiance[0] = glm::vec4(1, 1, 1, 0);
-  s.diffuse = glm::vec4(1, 1, 1, 0);
+  const ShadingParams s = diffuseLightAbove();
   TraceOptions o;
   o.samplesPerPixel = 16;
   for (const bool shadows : {false, true}) {

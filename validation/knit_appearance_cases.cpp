@@ -327,19 +327,7 @@ CaseResult runFidelity(ValidationContext& ctx, KnitFidelity variant, const std::
                              "informational: RMSE of linear radiance against the shadowed all-fiber reference", false});
   r.metrics.push_back(Metric{"mean.gpu_over_truth", sumTruth > 0.0 ? sumGpu / sumTruth : std::nan(""), 0.0, "ratio",
                              "informational: mean radiance of the frame over the reference's, both covered", false});
-  {  // Colour: mean blue over mean red, the frame's over the reference's (> 1: the frame is bluer).
-    glm::dvec3 g(0.0), t(0.0);
-    for (size_t p = 0; p + 3 < img.pixels.size(); p += 4) {
-      if (img.pixels[p + 3] < 0.5f || truth.image.pixels[p + 3] < 0.5f) continue;
-      g += glm::dvec3(img.pixels[p], img.pixels[p + 1], img.pixels[p + 2]);
-      t += glm::dvec3(truth.image.pixels[p], truth.image.pixels[p + 1], truth.image.pixels[p + 2]);
-    }
-    const double ratio = g.x > 0.0 && t.x > 0.0 && t.z > 0.0 ? (g.z / g.x) / (t.z / t.x) : std::nan("");
-    r.metrics.push_back(Metric{"blue_over_red.gpu_over_truth", ratio, 0.0, "ratio",
-                               "informational: (mean B / mean R) of the frame over the reference's, both covered (> 1: "
-                               "bluer)",
-                               false});
-  }
+  r.metrics.push_back(blueOverRedMetric(img, truth.image));
   if (ctx.options().images) {
     r.images.push_back(ctx.saveImage(toRgba(img), name + "-gpu"));
     r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
