@@ -421,10 +421,12 @@ double lum(glm::dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 constexpr double kTwinTolerance = 1e-3;
 // Eq. 17's twin: the synthetic ξ textures are steep (log ξ changes by up to
 // ~1.5 per radian of θ, summed over four textures), and the fragment's yarn
-// frame is the GPU's float frame blended along the line, not the exact +x:
-// taking the fiber's tangent for T instead moved the θ-only lookups of the
-// same pixels by up to 1e-3 (measured), so the frame's own tilt is of that
-// order: measured 5.8e-4 over the pixels judged; 2e-3. A v mirrored reads 0.36.
+// frame is the GPU's float frame blended along the line, not the exact +x.
+// Measured with textures varying in θ only: 3e-4–4e-4 at single pixels with
+// the frame's T, 3e-4–6e-4 at more pixels with the fiber's tangent for T, none
+// with textures varying in φ only — a tilt of T of a few 1e-4 rad. Measured
+// 5.8e-4 over the pixels judged (all textures); 2e-3, 3.4× that. A v mirrored
+// reads 0.36.
 constexpr double kTwinXiTolerance = 2e-3;
 // Pixels whose plain twin agrees this well shade the closed form's hit.
 constexpr double kSameHit = 1e-5;
