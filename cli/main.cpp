@@ -372,6 +372,11 @@ int main(int argc, char** argv) {
   trace->add_flag("--all-fibers", to.view.fiber.allFibers,
                   "the all-fiber reference: every fiber of the preset explicit (fiber_num per ply), no core, no LoD "
                   "(docs/ground-truth.md)");
+  double traceAngularRadiusDeg = 0.0;
+  trace->add_option("--light-angular-radius", traceAngularRadiusDeg,
+                    "each light a cone of this angular radius in degrees, [0, 60] (default 0: one direction): shadow "
+                    "rays sample the cone uniformly, the reference of render --soft-shadows (docs/soft-shadows.md)")
+      ->check(CLI::Range(0.0, 60.0));
   std::string traceEnv;
   trace->add_option("--env", traceEnv,
                     "light by an OpenEXR lat-long map (y up, row 0 at the top; docs/srbf.md) in place of --ambient, "
@@ -511,6 +516,7 @@ int main(int argc, char** argv) {
         ft::readEnvironmentMap(traceEnv);  // a bad map is refused before the scene is built
         to.environmentMap = traceEnv;
       }
+      to.lightAngularRadius = traceAngularRadiusDeg * 3.14159265358979323846 / 180.0;
       return ft::runTraceCommand(to, std::cout);
     }
   } catch (const ft::InputError& e) {

@@ -114,6 +114,7 @@ TraceResult traceFrame(const std::string& name, const YarnBuffers& buffers, cons
   t.multipleScattering = settings.multipleScattering;
   t.maxDepth = settings.maxDepth;
   t.seed = settings.seed;
+  t.lightAngularRadius = settings.lightAngularRadius;
   std::unique_ptr<EnvironmentSampler> environment;
   if (settings.environmentMap) {
     environment = std::make_unique<EnvironmentSampler>(readEnvironmentMap(*settings.environmentMap));

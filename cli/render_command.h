@@ -59,6 +59,9 @@ struct TraceSettings {
   // --env FILE: the map lights the fibers in place of --ambient, sampled
   // directly (reference/environment_sampling.h), not through its SRBF fit.
   std::optional<std::filesystem::path> environmentMap;
+  // --light-angular-radius (trace): each light a cone of this half-angle
+  // (radians; 0: one direction), the soft-shadow reference (docs/soft-shadows.md).
+  double lightAngularRadius = 0.0;
 };
 
 struct TraceCommandOptions : TraceSettings {

@@ -232,6 +232,18 @@ namespace {
 
 constexpr uint32_t kNoStrip = ~0u;
 
+// A direction uniform in solid angle over the cone of half-angle alpha about
+// the unit axis a, from two uniform numbers: cos θ = 1 − u0 (1 − cos α),
+// ψ = 2π u1 about a.
+glm::vec3 coneDirection(glm::vec3 a, double alpha, double u0, double u1) {
+  const double cosT = 1.0 - u0 * (1.0 - std::cos(alpha)), sinT = std::sqrt(std::max(0.0, 1.0 - cosT * cosT));
+  const double psi = 2.0 * 3.14159265358979323846 * u1;
+  const glm::dvec3 ad(a);
+  const glm::dvec3 helper = std::abs(ad.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 b1 = glm::normalize(glm::cross(ad, helper)), b2 = glm::cross(ad, b1);
+  return glm::vec3(glm::normalize(cosT * ad + sinT * (std::cos(psi) * b1 + std::sin(psi) * b2)));
+}
+
 // An intersection context that makes Embree skip the fiber a ray leaves
 // (context filter: the scene carries RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION).
 struct FilterContext {
@@ -328,15 +340,23 @@ struct Render {
     return ray.tfar >= 0.0f;  // Embree sets tfar to −∞ on a hit
   }
 
-  // Σ_i ftFiberDirect(s, i, t, n, ω_o) V_i.
-  vec3 direct(const FiberHit& h, vec3 wo, TraceStats& stats) const {
+  // Σ_i ftFiberDirect(s, i, t, n, ω_o) V_i. With lightAngularRadius α > 0
+  // each light is a cone of directions of half-angle α about its direction,
+  // of uniform radiance: V_i is then one shadow ray along a direction drawn
+  // uniformly in solid angle over the cone (cos θ uniform in [cos α, 1], ψ
+  // uniform), an unbiased estimate of the visible fraction; the BCSDF stays
+  // at the cone's axis, as the frame's PCSS only softens the visibility
+  // (docs/soft-shadows.md).
+  vec3 direct(const FiberHit& h, vec3 wo, RandomStream& rng, TraceStats& stats) const {
     vec3 sum(0.0f);
     for (int i = 0; i < lights; ++i) {
       const vec3 c = ftFiberDirect(*s, i, h.t, h.n, wo);
       if (c == vec3(0.0f)) continue;
       if (options->shadows) {
         ++stats.shadowRays;
-        if (!unoccluded(h.position, normalize(vec3(s->lightDirection[i])), h.strip)) continue;
+        vec3 w = normalize(vec3(s->lightDirection[i]));
+        if (options->lightAngularRadius > 0.0) w = coneDirection(w, options->lightAngularRadius, rng.next(), rng.next());
+        if (!unoccluded(h.position, w, h.strip)) continue;
       }
       sum += c;
     }
@@ -418,7 +438,7 @@ struct Render {
     vec3 radiance(0.0f), throughput(1.0f);
     const bool env = options->environment != nullptr;
     for (int depth = 1;; ++depth) {
-      radiance += throughput * direct(h, wo, stats);
+      radiance += throughput * direct(h, wo, rng, stats);
       if (env) radiance += throughput * environmentLight(h, wo, FiberScatter(*s, h.t, h.n, wo), rng, true, stats);
       if (depth == options->maxDepth) {
         ++stats.truncatedPaths;
@@ -508,6 +528,9 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
                                             options.samplePositions.size(), options.samplesPerPixel));
   if (options.multipleScattering && options.maxDepth < 1)
     throw std::invalid_argument(fmt::format("traceFibers: maxDepth {} < 1", options.maxDepth));
+  if (!(options.lightAngularRadius >= 0.0 && options.lightAngularRadius <= 3.14159265358979323846 / 3.0))
+    throw std::invalid_argument(
+        fmt::format("traceFibers: lightAngularRadius {} rad outside [0, 60°]", options.lightAngularRadius));
   if (camera.width < 1 || camera.height < 1)
     throw std::invalid_argument(fmt::format("traceFibers: image {}x{}", camera.width, camera.height));
   if (s.flags.x > FT_MAX_LIGHTS)
@@ -568,8 +591,8 @@ TraceResult traceFibers(const FiberTraceScene& scene, const Camera& camera, cons
             ++typeCount[std::min<uint32_t>(render.scene->strips[h.strip].type, 3u)];
             oneStrip = oneStrip && h.strip == firstStrip;
             const vec3 L = options.multipleScattering ? render.path(h, -dir, rng, stats)
-                           : options.environment ? render.direct(h, -dir, stats) + render.environmentDirect(h, -dir, rng, stats)
-                                                 : render.direct(h, -dir, stats) + render.ambient(h, -dir);
+                           : options.environment ? render.direct(h, -dir, rng, stats) + render.environmentDirect(h, -dir, rng, stats)
+                                                 : render.direct(h, -dir, rng, stats) + render.ambient(h, -dir);
             if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
               ++stats.nonFinite;
               continue;

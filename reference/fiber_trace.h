@@ -82,6 +82,11 @@ struct TraceOptions {
   // shading_cases.cpp); when given, samplesPerPixel must equal their count.
   std::vector<glm::vec2> samplePositions;
   bool shadows = true;              // trace V_i towards each light (else V_i = 1)
+  // Each directional light as a cone of this half-angle (radians, [0, 60°];
+  // 0: a single direction): the shadow ray of a sample goes along a direction
+  // uniform over the cone (soft shadows; `trace --light-angular-radius`, the
+  // reference of the frame's PCSS, docs/soft-shadows.md).
+  double lightAngularRadius = 0.0;
   bool multipleScattering = false;  // path tracing (modes in traceFibers)
   int maxDepth = 16;                // scattering events per path (multipleScattering)
   bool russianRoulette = true;      // after 3 scattering events; off: every path runs until it escapes or maxDepth

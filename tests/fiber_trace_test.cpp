@@ -440,6 +440,37 @@ TEST(FiberTrace, DirectShadingMatchesEquation6) {
 
 // ---- Shadows --------------------------------------------------------------
 
+// The shadow tests' scene: two parallel fibers along x, the lower (radius 1)
+// at the origin, the upper (radius 0.15) at y = 2.5, z = 0.6; and their
+// shading: black BCSDF (F = 0 at θ_i = 0), k_d = 1, one light of irradiance 1
+// straight above (+y), so L = V max(0, n·ω_i)/π.
+const Cylinder kLowerFiber{{0, 0, 0}, {1, 0, 0}, 1.0}, kUpperFiber{{0, 2.5, 0.6}, {1, 0, 0}, 0.15};
+FiberTraceScene twoFiberScene() {
+  return FiberTraceScene(
+      makeGeometry(straight({0, 0, 0}, {1, 0, 0}, 1.0f, 0) + straight({0, 2.5f, 0.6f}, {1, 0, 0}, 0.15f, 1)), onePly());
+}
+// The points of the lower fiber seen through the 8 × 8 sub-rays of pixel
+// (2, y) (those the upper fiber hides, or that miss, are left out).
+std::vector<dvec3> lowerFootprint(const Camera& cam, int y) {
+  std::vector<dvec3> points;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const Ray ray = pixelRay(cam, 2 + (i + 0.5) / 8, y + (j + 0.5) / 8);
+      const std::optional<double> tl = hit(ray, kLowerFiber), tu = hit(ray, kUpperFiber);
+      if (tl && !(tu && *tu < *tl)) points.push_back(ray.o + *tl * ray.d);
+    }
+  return points;
+}
+ShadingParams diffuseLightAbove() {
+  Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
+  ShadingParams s = shading(paramsOf(black));
+  s.flags.x = 1;
+  s.lightDirection[0] = glm::vec4(0, 1, 0, 0);
+  s.lightIrradiance[0] = glm::vec4(1, 1, 1, 0);
+  s.diffuse = glm::vec4(1, 1, 1, 0);
+  return s;
+}
+
 // Light straight above (+y) two parallel fibers along x: the lower one
 // (radius 1 at the origin) is seen from +z; its visible point at height y is
 // z = √(1 − y²), lit for y > 0 and shadowed where the vertical through it
@@ -447,16 +478,10 @@ TEST(FiberTrace, DirectShadingMatchesEquation6) {
 // i.e. y ∈ (0.661, 0.893). f vanishes there (C_R = C_TT = 0 and θ_i = 0 give
 // F = 0), so L = V max(0, n·ω_i)/π with k_d = 1 and E = 1.
 TEST(FiberTrace, ShadowsFallWhereTheUpperFiberBlocksTheLight) {
-  const Cylinder lower{{0, 0, 0}, {1, 0, 0}, 1.0}, upper{{0, 2.5, 0.6}, {1, 0, 0}, 0.15};
-  const FiberTraceScene scene(
-      makeGeometry(straight({0, 0, 0}, {1, 0, 0}, 1.0f, 0) + straight({0, 2.5f, 0.6f}, {1, 0, 0}, 0.15f, 1)), onePly());
+  const Cylinder &lower = kLowerFiber, &upper = kUpperFiber;
+  const FiberTraceScene scene = twoFiberScene();
   const Camera cam = farCamera({0, 0.75f, 0}, 50.0f, 5.0f, 4, 200);  // 0.025 units per pixel at the target
-  Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
-  ShadingParams s = shading(paramsOf(black));
-  s.flags.x = 1;
-  s.lightDirection[0] = glm::vec4(0, 1, 0, 0);
-  s.lightIrradiance[0] = glm::vec4(1, 1, 1, 0);
-  s.diffuse = glm::vec4(1, 1, 1, 0);
+  const ShadingParams s = diffuseLightAbove();
   TraceOptions o;
   o.samplesPerPixel = 64;
   const TraceResult res = traceFibers(scene, cam, s, constantTable(glm::vec3(0.0f)), o);
@@ -466,18 +491,13 @@ TEST(FiberTrace, ShadowsFallWhereTheUpperFiberBlocksTheLight) {
     // Classify the footprint of the column-2 pixel on 8×8 sub-rays.
     int onLower = 0, shadowed = 0, facing = 0;
     double expected = 0.0;
-    for (int i = 0; i < 8; ++i)
-      for (int j = 0; j < 8; ++j) {
-        const Ray ray = pixelRay(cam, 2 + (i + 0.5) / 8, y + (j + 0.5) / 8);
-        const std::optional<double> tl = hit(ray, lower), tu = hit(ray, upper);
-        if (!tl || (tu && *tu < *tl)) continue;
-        ++onLower;
-        const dvec3 p = ray.o + *tl * ray.d;
-        const bool blocked = hit({p, {0, 1, 0}}, upper).has_value();
-        shadowed += blocked;
-        facing += normalAt(lower, p).y > 0.0;
-        if (!blocked) expected += std::max(0.0, normalAt(lower, p).y) / kPi / 64.0;
-      }
+    for (const dvec3& p : lowerFootprint(cam, y)) {
+      ++onLower;
+      const bool blocked = hit({p, {0, 1, 0}}, upper).has_value();
+      shadowed += blocked;
+      facing += normalAt(lower, p).y > 0.0;
+      if (!blocked) expected += std::max(0.0, normalAt(lower, p).y) / kPi / 64.0;
+    }
     // Only footprints on the lower fiber with n·ω_i of one sign: elsewhere the
     // kink of max(0, n·ω_i) or an edge makes 64 jittered samples and 64
     // midpoints differ by more than the tolerance.
@@ -493,6 +513,94 @@ TEST(FiberTrace, ShadowsFallWhereTheUpperFiberBlocksTheLight) {
   }
   EXPECT_GE(shadowRows, 8);  // (0.893 − 0.661)/0.025 = 9.3 rows
   EXPECT_GE(litRows, 10);
+}
+
+// The same two fibers under a cone light (TraceOptions::lightAngularRadius
+// α = 0.05 rad about +y): at the lower fiber's visible point p the expected
+// visibility is the fraction of the cone (uniform in solid angle) whose rays
+// from p miss the upper fiber, by the test's own quadrature (midpoint rule,
+// 96 × 192 cells in (cos θ, ψ), against the test's cylinder) tabulated over
+// the height of p; the pixel's expectation averages V max(0, n·y)/π over an
+// 8 × 8 footprint. One shadow ray per camera sample: the trace's value is a
+// binomial estimate, within 5σ (σ from the expected V and 4096 samples:
+// 0.6 % of the shade at V = ½) plus the footprint-midpoint and quadrature
+// slack. The upper fiber subtends ±asin(0.15/d) ≈ ±5° > α from the lit rows:
+// an umbra (exactly 0) between two penumbrae of ~2αd ≈ 0.17 units (~5 rows
+// each at 0.025 units per pixel with 0.05 < V < 0.95). Directions drawn uniform in θ instead of
+// in cos θ (the cone's centre over-weighted) miss by ~0.08 V mid-penumbra.
+TEST(FiberTrace, ConeLightPenumbraIsTheVisibleFractionOfTheCone) {
+  const Cylinder &lower = kLowerFiber, &upper = kUpperFiber;
+  const FiberTraceScene scene = twoFiberScene();
+  const Camera cam = farCamera({0, 0.75f, 0}, 50.0f, 5.0f, 4, 200);
+  const ShadingParams s = diffuseLightAbove();
+  const double alpha = 0.05;
+  TraceOptions o;
+  o.samplesPerPixel = 4096;
+  o.lightAngularRadius = alpha;
+  const TraceResult res = traceFibers(scene, cam, s, constantTable(glm::vec3(0.0f)), o);
+  ASSERT_EQ(res.stats.nonFinite, 0u);
+  // V(y) at p = (0, y, √(1 − y²)), y ∈ [0, 1], on 1001 heights.
+  const int nCos = 96, nPsi = 192, nY = 1001;
+  std::vector<double> table(nY);
+  for (int k = 0; k < nY; ++k) {
+    const double y = double(k) / (nY - 1);
+    const dvec3 p(0.0, y, std::sqrt(std::max(0.0, 1.0 - y * y)));
+    int visible = 0;
+    for (int a = 0; a < nCos; ++a) {
+      const double c = 1.0 - (a + 0.5) / nCos * (1.0 - std::cos(alpha)), sn = std::sqrt(1.0 - c * c);
+      for (int b = 0; b < nPsi; ++b) {
+        const double psi = 2.0 * kPi * (b + 0.5) / nPsi;
+        visible += !hit({p, {sn * std::cos(psi), c, sn * std::sin(psi)}}, upper).has_value();
+      }
+    }
+    table[k] = double(visible) / (nCos * nPsi);
+  }
+  const auto visibility = [&](double y) {
+    const double f = std::clamp(y, 0.0, 1.0) * (nY - 1);
+    const int k = std::min(int(f), nY - 2);
+    return table[k] + (f - k) * (table[k + 1] - table[k]);
+  };
+  int penumbraRows = 0, umbraRows = 0, litRows = 0;
+  for (int y = 0; y < cam.height; ++y) {
+    int onLower = 0, facing = 0, umbra = 0;
+    double expected = 0.0, vMean = 0.0, shadeMax = 0.0;
+    for (const dvec3& p : lowerFootprint(cam, y)) {
+      ++onLower;
+      const double shade = std::max(0.0, normalAt(lower, p).y) / kPi;
+      const double v = visibility(p.y);
+      facing += normalAt(lower, p).y > 0.0;
+      umbra += v == 0.0;
+      expected += shade * v / 64.0;
+      vMean += v / 64.0;
+      shadeMax = std::max(shadeMax, shade);
+    }
+    if (onLower < 64 || (facing > 0 && facing < 64)) continue;
+    const float got = res.image.at(2, y)[1];
+    if (umbra == 64) {
+      ++umbraRows;
+      EXPECT_EQ(got, 0.0f) << "row " << y << " is in the umbra";
+      continue;
+    }
+    const double sigma = shadeMax * std::sqrt(vMean * (1.0 - vMean) / o.samplesPerPixel);
+    EXPECT_NEAR(got, expected, 5.0 * sigma + 4e-3 * expected + 1e-5) << "row " << y << ", V " << vMean;
+    if (vMean > 0.05 && vMean < 0.95) ++penumbraRows;
+    if (vMean == 1.0 && expected > 0.0) ++litRows;
+  }
+  EXPECT_GE(penumbraRows, 8);  // 10 with 0.05 < V < 0.95 (both edges)
+  EXPECT_GE(umbraRows, 2);     // 3 whose whole footprint is in the umbra
+  EXPECT_GE(litRows, 10);
+}
+
+// traceFibers refuses a cone wider than 60° or negative.
+TEST(FiberTrace, RejectsABadLightAngularRadius) {
+  const FiberTraceScene scene(makeGeometry(straight({0, 0, 0}, {1, 0, 0}, 1.0f, 0)), onePly());
+  const Camera cam = farCamera({0, 0, 0}, 50.0f, 5.0f, 4, 4);
+  ShadingParams s = shading(paramsOf(Fabric{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0}));
+  for (double bad : {-0.1, 1.1, std::nan("")}) {
+    TraceOptions o;
+    o.lightAngularRadius = bad;
+    EXPECT_THROW(traceFibers(scene, cam, s, constantTable(glm::vec3(0.0f)), o), std::invalid_argument) << bad;
+  }
 }
 
 // A curved fiber (a circular arc over three yarn segments) never shadows
@@ -568,12 +676,7 @@ TEST(FiberTrace, TheSameFiberFurtherAlongItsYarnCastsShadows) {
   const FiberTraceScene scene(makeGeometry(strips), onePly());
   EXPECT_EQ(scene.fiberCount(), 1u);
   const Camera cam = farCamera({-1.5f, 1.0f, 0}, 100.0f, 4.0f, 32, 32);  // 8 px per unit
-  Fabric black{{0, 0, 0}, {0, 0, 0}, radians(5), radians(10), 4.0};
-  ShadingParams s = shading(paramsOf(black));
-  s.flags.x = 1;
-  s.lightDirection[0] = glm::vec4(0, 1, 0, 0);
-  s.lightIrradiance[0] = glm::vec4(1, 1, 1, 0);
-  s.diffuse = glm::vec4(1, 1, 1, 0);
+  const ShadingParams s = diffuseLightAbove();
   TraceOptions o;
   o.samplesPerPixel = 16;
   for (const bool shadows : {false, true}) {

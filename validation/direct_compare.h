@@ -29,4 +29,9 @@ struct DirectComparison {
 DirectComparison compareWithDirectTruth(CaseResult& r, const ImageRgbaF& gpu, const TraceResult& truth,
                                         const TraceResult& truth16);
 
+// The fidelity rows' colour figure (informational): (mean B / mean R) of the
+// frame over the reference's, over the pixels both cover (> 1: the frame is
+// bluer); NaN when a mean is 0.
+Metric blueOverRedMetric(const ImageRgbaF& frame, const ImageRgbaF& truth);
+
 }  // namespace ft

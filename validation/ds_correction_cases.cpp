@@ -21,6 +21,7 @@
 
 #include "gpu/ds_correction_gpu.h"
 #include "reference/ds_correction.h"
+#include "validation/ds_correction_oracle.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -211,45 +212,7 @@ CaseResult runBakeCase(ValidationContext& ctx, const YarnPreset& preset, const s
   return r;
 }
 
-// ---- The oracle: the lookup as docs/ds-correction.md states it --------------------
-// Axis of n texels: periodic with centres (k + c)/n, or clamped with centres (k + ½)/n.
-struct AxisWeights {
-  int k0, k1;
-  double w1;
-};
-AxisWeights periodicAxis(double x, int n, double centre) {
-  double c = x * n - centre;
-  const double k = std::floor(c);
-  const int k0 = int(((long long)k % n + n) % n);
-  return {k0, (k0 + 1) % n, c - k};
-}
-AxisWeights clampedAxis(double x, int n) {
-  const double c = std::clamp(x * n - 0.5, 0.0, double(n - 1));
-  const int k0 = std::min(int(std::floor(c)), n - 1);
-  return {k0, std::min(k0 + 1, n - 1), c - k0};
-}
-// Trilinear read of the logarithms of a texture with `angles` slices at
-// (u, v, angle weights): the lookup interpolates the factors geometrically
-// (docs/ds-correction.md).
-glm::dvec3 oracleReadLog(const std::vector<glm::vec4>& tex, int nu, int nv, AxisWeights u, AxisWeights v, AxisWeights a) {
-  glm::dvec3 sum(0.0);
-  for (int c = 0; c < 8; ++c) {
-    const int i = c & 1 ? u.k1 : u.k0, j = c & 2 ? v.k1 : v.k0, k = c & 4 ? a.k1 : a.k0;
-    const double w = (c & 1 ? u.w1 : 1 - u.w1) * (c & 2 ? v.w1 : 1 - v.w1) * (c & 4 ? a.w1 : 1 - a.w1);
-    const glm::vec4 value = tex[size_t((k * nv + j) * nu + i)];
-    for (int ch = 0; ch < 3; ++ch) sum[ch] += w * std::log(std::max(double(value[ch]), 1e-30));
-  }
-  return sum;
-}
-// ξ_M ξ_N Ψ_M Ψ_N: exp of the four interpolated logarithms.
-glm::dvec3 oracleLookup(const DsCorrectionTextures& t, glm::dvec4 q) {
-  const int nu = int(t.layout.size.x), nv = int(t.layout.size.y), nt = int(t.layout.size.z), np = int(t.layout.size.w);
-  const AxisWeights u = periodicAxis(q.x, nu, 0.5), v = clampedAxis(q.y, nv);
-  const AxisWeights theta = clampedAxis((q.z + kPi / 2) / kPi, nt);  // θ_a = −π/2 + (a + ½)π/N_θ
-  const AxisWeights phi = periodicAxis(q.w / (2 * kPi), np, 0.0);    // φ_b = 2πb/N_φ
-  return glm::exp(oracleReadLog(t.xiM, nu, nv, u, v, theta) + oracleReadLog(t.xiN, nu, nv, u, v, phi) +
-                  oracleReadLog(t.psiM, nu, nv, u, v, theta) + oracleReadLog(t.psiN, nu, nv, u, v, phi));
-}
+// ---- The oracle: the lookup as docs/ds-correction.md states it (validation/ds_correction_oracle.h).
 
 // The largest per-channel |a − b| / |b| (b at least 1e-30).
 double relDiff(glm::dvec3 a, glm::dvec3 b) {
@@ -285,7 +248,7 @@ CaseResult runLookupCase(ValidationContext& ctx, const YarnPreset& preset, const
   uint64_t nonFiniteCpu = 0, nonFiniteGpu = 0;
   for (size_t q = 0; q < queries.size(); ++q) {
     cpu[q] = evaluateDsCorrectionCpu(t, glm::vec2(queries[q].x, queries[q].y), glm::vec2(queries[q].z, queries[q].w));
-    const glm::dvec3 expected = oracleLookup(t, glm::dvec4(queries[q]));
+    const glm::dvec3 expected = oracle::xiLookup(t, glm::dvec4(queries[q]));
     for (int c = 0; c < 3; ++c) {
       nonFiniteCpu += std::isfinite(cpu[q][c]) ? 0 : 1;
       nonFiniteGpu += std::isfinite(gpu[q][c]) ? 0 : 1;

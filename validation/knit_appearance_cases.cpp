@@ -52,6 +52,7 @@
 #include "scene/lighting.h"
 #include "scene/yarn_preset.h"
 #include "validation/direct_compare.h"
+#include "validation/fidelity_xi.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -229,9 +230,14 @@ AppearanceOptions ciDefaults() {
   return a;
 }
 
-enum class KnitFidelity { None, Defaults, Environment };
+// EnvironmentXi: the environment row with dual scattering and the CI ξ bake of
+// cotton1/cotton (validation/fidelity_xi.h): 001 eq. 17's ξΨ per lobe.
+enum class KnitFidelity { None, Defaults, Environment, EnvironmentXi };
 const char* fidelityName(KnitFidelity f) {
-  return f == KnitFidelity::None ? "none" : f == KnitFidelity::Defaults ? "defaults" : "environment";
+  return f == KnitFidelity::None           ? "none"
+         : f == KnitFidelity::Defaults     ? "defaults"
+         : f == KnitFidelity::Environment ? "environment"
+                                          : "environment+xi";
 }
 
 std::shared_ptr<const ImageRgbaF> knitSky() {
@@ -247,7 +253,8 @@ struct FidelityTruth {
 
 CaseResult runFidelity(ValidationContext& ctx, KnitFidelity variant, const std::string& name) {
   const bool approximations = variant != KnitFidelity::None;
-  const bool env = variant == KnitFidelity::Environment;
+  const bool env = variant == KnitFidelity::Environment || variant == KnitFidelity::EnvironmentXi;
+  const bool xi = variant == KnitFidelity::EnvironmentXi;
   CaseResult r;
   r.name = name;
   r.group = "knit";
@@ -261,6 +268,10 @@ CaseResult runFidelity(ValidationContext& ctx, KnitFidelity variant, const std::
     appearance.environmentImage = knitSky();
     appearance.environmentTableDims = kSrbfTableCiDims;
     appearance.softShadows = true;
+  }
+  if (xi) {
+    appearance.dualScattering = true;
+    appearance.dsCorrectionFile = fidelityXiFile(ctx, in.preset, lighting.fabric);
   }
   const ShadingParams s = makeShadingParams(lighting);
   const auto t0 = Clock::now();
@@ -316,11 +327,13 @@ CaseResult runFidelity(ValidationContext& ctx, KnitFidelity variant, const std::
                              "informational: RMSE of linear radiance against the shadowed all-fiber reference", false});
   r.metrics.push_back(Metric{"mean.gpu_over_truth", sumTruth > 0.0 ? sumGpu / sumTruth : std::nan(""), 0.0, "ratio",
                              "informational: mean radiance of the frame over the reference's, both covered", false});
+  r.metrics.push_back(blueOverRedMetric(img, truth.image));
   if (ctx.options().images) {
     r.images.push_back(ctx.saveImage(toRgba(img), name + "-gpu"));
     r.images.push_back(ctx.saveImage(toRgba(truth.image), name + "-truth"));
     r.images.push_back(ctx.saveImage(flipImage(flipL), name + "-flip"));
-    r.imageCaptions = {env              ? "GPU, the knit defaults + --env sky --soft-shadows (CI sizes)"
+    r.imageCaptions = {xi               ? "GPU, the knit defaults + --env sky --soft-shadows --ds-correction (CI sizes)"
+                       : env            ? "GPU, the knit defaults + --env sky --soft-shadows (CI sizes)"
                        : approximations ? "GPU, the knit defaults (CI sizes)"
                                         : "GPU, no approximation of 000 §4",
                        "all-fiber reference with shadow rays", "LDR-FLIP"};
@@ -328,7 +341,11 @@ CaseResult runFidelity(ValidationContext& ctx, KnitFidelity variant, const std::
   r.details = fmt::format("{}×{} stockinette stretched 1.4×, cotton1, cotton, {}, {}x{}, the knit camera; "
                           "approximations: {}; reference: {} fibers per ply, {} curve segments, 4 spp, shadow rays{}",
                           kRows, kCols, env ? "the procedural sky (data/env/sky.exr) alone" : "front light", kWidth,
-                          kHeight, env ? "the defaults, --env (CI table), --soft-shadows" : approximations ? "the defaults" : "none",
+                          kHeight,
+                          xi    ? "the defaults, --env (CI table), --soft-shadows, dual scattering with the CI xi bake"
+                          : env ? "the defaults, --env (CI table), --soft-shadows"
+                          : approximations ? "the defaults"
+                                           : "none",
                           ft.fibersPerPly, ft.segments, env ? ", the map sampled directly (MIS)" : "");
   r.finish();
   return r;
@@ -343,7 +360,8 @@ void addKnitAppearanceCases(ValidationContext& ctx, std::vector<ValidationCase>&
     const std::string name = fmt::format("knit/appearance/twin/{}", tess ? "tessellation" : "compute");
     out.push_back({name, [=](ValidationContext& c) { return runTwin(c, tess, name); }});
   }
-  for (KnitFidelity f : {KnitFidelity::None, KnitFidelity::Defaults, KnitFidelity::Environment}) {
+  for (KnitFidelity f :
+       {KnitFidelity::None, KnitFidelity::Defaults, KnitFidelity::Environment, KnitFidelity::EnvironmentXi}) {
     const std::string name = fmt::format("knit/appearance/fidelity/{}", fidelityName(f));
     out.push_back({name, [=](ValidationContext& c) { return runFidelity(c, f, name); }});
   }

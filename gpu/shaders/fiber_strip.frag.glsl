@@ -431,6 +431,19 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
          ((vec3(1.0) - vec3(shading.diffuse)) * correction * local * cosThetaI + psi * diffuse);
 }
 
+#if defined(FT_FRAME_DUAL_SCATTERING) && defined(FT_FRAME_ENVIRONMENT)
+// The ξ texture coordinate of the hit and the yarn tangent T, as
+// dualScatteringLight forms them (for eq. 17's per-lobe lookups).
+vec2 xiTexCoordAt(FiberHit h, CrossSection c, vec3 v, out vec3 T) {
+  T = normalize(cross(c.N, c.B));
+  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
+  vec3 vp = v - dot(v, T) * T;
+  vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;
+  vec3 q = h.position - cs.xyz;
+  return ftXiTexCoord(xiLayout, cs.w + dot(q, T), dot(q, side));
+}
+#endif
+
 vec3 shadeFiber(FiberHit h) {
   vec3 v = normalize(view.cameraPos.xyz - h.position);
   vec3 radiance = vec3(0.0);
@@ -485,8 +498,19 @@ vec3 shadeFiber(FiberHit h) {
 #ifdef FT_FAULT_FRAME_ENV_VIEW_REVERSED
   wo = -v;  // the eye ray's propagation taken for ω_o
 #endif
+#ifdef FT_FRAME_DUAL_SCATTERING
+  // 001 eq. 17: ξ_M ξ_N Ψ_M Ψ_N per lobe at ω_d := μ_j (common/srbf_lighting.h).
+  vec3 yarnT;
+  vec2 xiUv = xiTexCoordAt(h, c, v, yarnT);
+#ifdef FT_FAULT_FRAME_ENV_XI_ACROSS_MIRRORED
+  xiUv.y = 1.0 - xiUv.y;  // the offset across the yarn measured the other way
+#endif
+  return radiance + ftSrbfFrameRadianceXi(shading, environment, srbfDims, h.tangent, h.normal, wo, table,
+                                          ambientVisibility, lobeT, xiLayout, xiUv, yarnT);
+#else
   return radiance + ftSrbfFrameRadiance(shading, environment, srbfDims, h.tangent, h.normal, wo, table,
                                         ambientVisibility, lobeT);
+#endif
 #else
   // 000 §4.2, Fig. 12d: AO scales the ambient term only.
   return radiance + ftFiberAmbient(shading, table) * ambientVisibility;
