@@ -137,13 +137,30 @@ struct FiberHit {
   vec3 tangent;
   vec3 normal;
   float along;  // place along the line, [0, 1]
-  // The line's yarn frame blended at `along` (unnormalised) and its curve:
-  // what the shading reads of the line, so that a deferred hit carries it.
+  // Deferred shading only (FT_DEFERRED_SHADE): the line's yarn frame blended
+  // at `along` (unnormalised) and its curve, read from the hit record.
   vec4 yarnC;
   vec3 yarnN;
   vec3 yarnB;
   uint curve;
 };
+
+// What the shading reads of the line at a hit: the varyings in the fragment
+// stage, written exactly as before deferred shading so that the forward
+// pass compiles as it did (Mesa lowers mix() by what else a shader
+// computes, and a last-bit change can move a core-texture hole); the hit
+// record's copy in the deferred shading.
+#ifdef FT_DEFERRED_SHADE
+#define FT_HIT_YARN_C(h) (h).yarnC
+#define FT_HIT_YARN_N(h) (h).yarnN
+#define FT_HIT_YARN_B(h) (h).yarnB
+#define FT_HIT_CURVE(h) (h).curve
+#else
+#define FT_HIT_YARN_C(h) mix(lineYarnC0, lineYarnC1, (h).along)
+#define FT_HIT_YARN_N(h) mix(lineYarnN0, lineYarnN1, (h).along)
+#define FT_HIT_YARN_B(h) mix(lineYarnB0, lineYarnB1, (h).along)
+#define FT_HIT_CURVE(h) lineCurve
+#endif
 
 #ifndef FT_DEFERRED_SHADE
 
@@ -202,10 +219,6 @@ bool castCapsule(vec3 o, out FiberHit h) {
   vec3 toEye = -d - dot(-d, h.tangent) * h.tangent;
   h.normal = normalize(toEye);  // the flat strip's normal: the fiber loses its roundness
 #endif
-  h.yarnC = mix(lineYarnC0, lineYarnC1, u);
-  h.yarnN = mix(lineYarnN0, lineYarnN1, u);
-  h.yarnB = mix(lineYarnB0, lineYarnB1, u);
-  h.curve = lineCurve;
   return true;
 }
 
@@ -244,13 +257,13 @@ struct CrossSection {
 };
 CrossSection crossSection(FiberHit h) {
   CrossSection c;
-  vec4 cs = h.yarnC;
-  c.N = normalize(h.yarnN);
-  vec3 b = h.yarnB;
+  vec4 cs = FT_HIT_YARN_C(h);
+  c.N = normalize(FT_HIT_YARN_N(h));
+  vec3 b = FT_HIT_YARN_B(h);
   c.B = normalize(b - dot(b, c.N) * c.N);
   vec3 q = h.position - cs.xyz;
   c.x = vec2(dot(q, c.N), dot(q, c.B));
-  TwistRates r = ftTwistRates(yarn, curves[h.curve]);
+  TwistRates r = ftTwistRates(yarn, curves[FT_HIT_CURVE(h)]);
   c.plyAngle = FT_TWO_PI * yarn.plyTwistSign * fract(cs.w * r.ply);
   return c;
 }
@@ -290,7 +303,7 @@ vec4 coreLerp1(CoreLookup l) {
 }
 bool applyCoreTexture(inout FiberHit h) {
   CrossSection c = crossSection(h);
-  vec4 cs = h.yarnC;
+  vec4 cs = FT_HIT_YARN_C(h);
   vec3 T = normalize(cross(c.N, c.B));
   vec3 axisPoint = mix(lineP0, lineP1, h.along);  // the ply centre (the core runs along it)
   vec3 q = axisPoint - cs.xyz;
@@ -305,7 +318,7 @@ bool applyCoreTexture(inout FiberHit h) {
   float psiRel = atan(dot(vp, plyB), dot(vp, plyN));
   vec3 side = cross(T, vp);  // the texture's y: B̂_j when ψ_rel = 0
   // Φ(s) with the curve's own rates (whole turns on closed curves, as the generator).
-  TwistRates r = ftTwistRates(yarn, curves[h.curve]);
+  TwistRates r = ftTwistRates(yarn, curves[FT_HIT_CURVE(h)]);
   YarnParams rates = yarn;
   rates.fiberTurnsPerLength = r.fiber;
   rates.plyTurnsPerLength = r.ply;
@@ -422,7 +435,7 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
   vec3 local = ftDsRuntime(f, ftDsBackscatter(t, a, vec3(0.0)), 1.0);  // k_fly = 1: no flyaway scaling (A8)
   // The yarn's frame at the hit.
   vec3 T = normalize(cross(c.N, c.B));
-  vec4 cs = h.yarnC;
+  vec4 cs = FT_HIT_YARN_C(h);
   vec3 vp = v - dot(v, T) * T;
   vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;  // seen end-on: any side
   // cs is the yarn at the hit's place along the fiber's line (its axis); on a
@@ -537,11 +550,13 @@ vec3 shadeFiberOfType(FiberHit h, uint type) {
 // FiberHit that shadeFiber reads, bit for bit, and the fiber type; record 0's
 // w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn.
 void ftPackHit(FiberHit h, uint type, out vec4 r[FT_VISIBILITY_TARGETS]) {
-  r[0] = vec4(h.position, float(1u + h.curve * 4u + type));
-  r[1] = vec4(h.tangent, h.yarnC.w);
-  r[2] = vec4(h.normal, h.yarnN.x);
-  r[3] = vec4(h.yarnC.xyz, h.yarnN.y);
-  r[4] = vec4(h.yarnB, h.yarnN.z);
+  vec4 yc = FT_HIT_YARN_C(h);
+  vec3 yn = FT_HIT_YARN_N(h), yb = FT_HIT_YARN_B(h);
+  r[0] = vec4(h.position, float(1u + FT_HIT_CURVE(h) * 4u + type));
+  r[1] = vec4(h.tangent, yc.w);
+  r[2] = vec4(h.normal, yn.x);
+  r[3] = vec4(yc.xyz, yn.y);
+  r[4] = vec4(yb, yn.z);
 }
 void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   uint code = uint(r[0].w) - 1u;
