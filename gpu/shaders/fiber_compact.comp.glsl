@@ -8,33 +8,17 @@
 // fragment's covered samples, so a fragment's samples share one record and
 // the deferred frame shades each visible fragment once, as the forward did.
 #include "common/constants.h"
+#include "shaders/deferred_resources.glsl"
 
 layout(local_size_x = FT_WG_DEFERRED_COMPACT, local_size_y = FT_WG_DEFERRED_COMPACT) in;
-
-layout(binding = FT_TEX_HIT_RECORD0 + 0) uniform sampler2DMS hitRecord0;
-layout(binding = FT_TEX_HIT_RECORD0 + 1) uniform sampler2DMS hitRecord1;
-layout(binding = FT_TEX_HIT_RECORD0 + 2) uniform sampler2DMS hitRecord2;
-layout(binding = FT_TEX_HIT_RECORD0 + 3) uniform sampler2DMS hitRecord3;
-layout(binding = FT_TEX_HIT_RECORD0 + 4) uniform sampler2DMS hitRecord4;
-// header.x: the entry count; entries: (x, y, the sample whose record is shaded, sample mask), colour.
-struct DeferredEntry {
-  uvec4 where;
-  vec4 color;
-};
-layout(std430, binding = FT_SSBO_DEFERRED_LIST) buffer DeferredList {
-  uvec4 header;
-  DeferredEntry entries[];
-};
 
 uniform uvec2 size;
 
 // The record's 20 words at sample s, as bits (so that equality is exact).
 void recordBits(ivec2 p, int s, out uvec4 r[FT_VISIBILITY_TARGETS]) {
-  r[0] = floatBitsToUint(texelFetch(hitRecord0, p, s));
-  r[1] = floatBitsToUint(texelFetch(hitRecord1, p, s));
-  r[2] = floatBitsToUint(texelFetch(hitRecord2, p, s));
-  r[3] = floatBitsToUint(texelFetch(hitRecord3, p, s));
-  r[4] = floatBitsToUint(texelFetch(hitRecord4, p, s));
+  vec4 f[FT_VISIBILITY_TARGETS];
+  hitRecordAt(p, s, f);
+  for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) r[k] = floatBitsToUint(f[k]);
 }
 
 bool sameRecord(uvec4 a[FT_VISIBILITY_TARGETS], uvec4 b[FT_VISIBILITY_TARGETS]) {

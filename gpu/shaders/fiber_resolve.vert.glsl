@@ -4,15 +4,7 @@
 // samples (gl_SampleMask), so that every sample gets what the forward pass
 // wrote there.
 #include "common/constants.h"
-
-struct DeferredEntry {
-  uvec4 where;  // (x, y, sample, mask)
-  vec4 color;
-};
-layout(std430, binding = FT_SSBO_DEFERRED_LIST) readonly buffer DeferredList {
-  uvec4 header;
-  DeferredEntry entries[];
-};
+#include "shaders/deferred_resources.glsl"
 uniform uvec2 size;
 
 layout(location = 0) flat out vec4 entryColor;
