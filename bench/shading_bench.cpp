@@ -16,7 +16,10 @@
 //   BM_ShadedCompute/{frame,closeup}       the views of `render --distance frame`
 //                                         (the whole glove) and `--distance closeup`,
 //                                         with occlusion culling (the default);
-//   BM_ShadedComputeNoCull/{frame,closeup} the same without it (same frame);
+//                                         and deferred shading (the default);
+//   BM_ShadedComputeNoCull/{frame,closeup} the same without culling (same frame);
+//   BM_ShadedComputeForward/{frame,closeup} culled, shaded in the fragment stage
+//                                         (render --forward; same frame);
 //   BM_Trace16/{frame,closeup}             the Embree ground truth of the same view
 //                                         and fibers (LoD on), 16 spp, direct light
 //                                         with shadow rays, the frame's light and
@@ -140,9 +143,10 @@ void BM_Shaded(benchmark::State& state, ft::FiberPath path, const ft::ViewParams
 
 // A culled or unculled compute-path frame of a named view; culled frames also
 // report their phases (one more frame, each phase finished and timed).
-void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, bool cull) {
+void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, bool cull, bool deferred) {
   g->gpu->setParams(g->fibers.params, *view);
   g->renderer->setOcclusionCull(cull);
+  g->renderer->setDeferred(deferred);
   g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);  // warm-up
   glFinish();
   for (auto _ : state) {
@@ -156,10 +160,15 @@ void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, bool cul
     state.counters["shadow_map_ms"] = t.shadowMapMs;
     state.counters["generate_ms"] = t.generateMs;
     state.counters["occluder_pass_ms"] = t.depthMs;
-    state.counters["shaded_pass_ms"] = t.shadeMs;
+    state.counters["shaded_pass_ms"] = t.shadeMs;  // deferred: the visibility pass
+    if (deferred) {
+      state.counters["deferred_ms"] = t.deferredMs;  // compaction, shading of the list, resolve
+      state.counters["deferred_hits"] = double(g->renderer->deferredEntries());
+    }
     state.counters["occluded_fraction"] = g->renderer->occludedFraction();
   }
   g->renderer->setOcclusionCull(true);
+  g->renderer->setDeferred(true);
 }
 
 // The Embree trace of a named view: the CPU reference's fibers at that view
@@ -333,9 +342,10 @@ int main(int argc, char** argv) {
     }
     for (size_t i = 0; i < setup.namedViews.size(); ++i) {
       const std::string& name = setup.namedViews[i].first;
-      for (bool cull : {true, false})
-        benchmark::RegisterBenchmark(fmt::format("BM_ShadedCompute{}/{}", cull ? "" : "NoCull", name).c_str(),
-                                     BM_NamedFrame, &setup.namedViewParams[i], cull)
+      for (int variant : {0, 1, 2})  // culled deferred, unculled deferred, culled forward
+        benchmark::RegisterBenchmark(
+            fmt::format("BM_ShadedCompute{}/{}", variant == 0 ? "" : variant == 1 ? "NoCull" : "Forward", name).c_str(),
+            BM_NamedFrame, &setup.namedViewParams[i], variant != 1, variant != 2)
             ->Unit(benchmark::kMillisecond)
             ->UseManualTime();
       benchmark::RegisterBenchmark(fmt::format("BM_Trace16/{}", name).c_str(), BM_Trace16, &setup.namedViews[i].second)

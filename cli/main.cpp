@@ -355,6 +355,9 @@ int main(int argc, char** argv) {
   render->add_flag("--preview", ro.preview, "the harness thumbnails' preview style instead of the BCSDF (PNG only)");
   render->add_flag("!--no-occlusion-cull", ro.occlusionCull,
                    "shade every fragment: without the occluder pass that skips hidden lines (the frame is the same)");
+  render->add_flag("!--forward", ro.deferred,
+                   "shade every fragment in the fragment stage instead of deferred shading of the visible hits "
+                   "(the frame is the same)");
   render->add_flag("--profile", ro.profile,
                    "time the bakes and each phase of the frame (glFinish after each), cold and then warm (drawn twice)");
   AppearanceOptionText renderAppearance;

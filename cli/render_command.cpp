@@ -182,6 +182,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
   renderer.setShading(bakeFrameInputs(g, defines, v.shading, v.fibers, o.appearance));
   const double bakeSeconds = secondsSince(t0);
   renderer.setOcclusionCull(o.occlusionCull);
+  renderer.setDeferred(o.deferred);
   FrameTimings cold, warm;
   if (o.profile) renderer.draw(gpu, path, w, h, &cold);  // then the same frame again, everything built
   const ImageRgbaF img = drawShadedFrame(renderer, gpu, path, w, h, fmt::format("the {} path", o.path),
@@ -193,8 +194,10 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
   if (o.profile) {
     log << fmt::format("  bakes (shading inputs): {:.0f} ms\n", 1e3 * bakeSeconds);
     for (const auto& [name, t] : {std::pair<const char*, const FrameTimings&>{"cold frame", cold}, {"warm frame", warm}})
-      log << fmt::format("  {}: {:.0f} ms = shadow map {:.0f} + generation {:.0f} + depth pass {:.0f} + shaded pass {:.0f}\n",
-                         name, t.totalMs(), t.shadowMapMs, t.generateMs, t.depthMs, t.shadeMs);
+      log << fmt::format(
+          "  {}: {:.0f} ms = shadow map {:.0f} + generation {:.0f} + depth pass {:.0f} + {} {:.0f}{}\n", name,
+          t.totalMs(), t.shadowMapMs, t.generateMs, t.depthMs, o.deferred ? "visibility pass" : "shaded pass", t.shadeMs,
+          o.deferred ? fmt::format(" + deferred shading {:.0f} ({} hits)", t.deferredMs, renderer.deferredEntries()) : "");
   }
   return 0;
 }

@@ -43,6 +43,7 @@ struct RenderCommandOptions {
   std::string path = "compute";                // compute or tessellation
   bool preview = false;                        // the harness thumbnails' preview style (RGBA8 PNG)
   bool profile = false;
+  bool deferred = true;                        // deferred shading (FiberRenderer::setDeferred); --forward: off
   bool occlusionCull = true;                   // exact occlusion culling (common/occlusion_cull.h)                        // time the bakes and the frame's phases, cold and warm
   AppearanceOptions appearance;                // 000 §4's approximations (--no-self-shadow, ...)
   GlBackend backend = GlBackend::Auto;

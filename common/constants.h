@@ -69,6 +69,17 @@
 #define FT_TEX_OCCLUDER_DEPTH 0    // sampler2DMS: the occluder pass's depth (pyramid level 0 reads it)
 #define FT_WG_OCCLUSION 8          // 8 × 8 texels per work group
 
+// Deferred shading of the frame (FiberRenderer::drawDeferred, docs/shaded-frame.md):
+// the visibility pass's hit records (FT_VISIBILITY_TARGETS 4× multisampled
+// RGBA32F textures, read at texture units 1–5) and the list of distinct hits
+// to shade (SSBO 73, the last free slot below llvmpipe's 80).
+#define FT_VISIBILITY_TARGETS 5    // vec4s per hit record (fiber_strip.frag.glsl ftPackHit)
+#define FT_DEFERRED_SAMPLES 4      // the shaded target's samples per pixel
+#define FT_TEX_HIT_RECORD0 1       // sampler2DMS: record k at unit FT_TEX_HIT_RECORD0 + k
+#define FT_SSBO_DEFERRED_LIST 73   // uvec4 header (x: entries), then (uvec4 x, y, sample, mask; vec4 colour) per entry
+#define FT_WG_DEFERRED_COMPACT 8   // 8 × 8 pixels per work group
+#define FT_WG_DEFERRED_SHADE 64
+
 // Soft yarn shadows by PCSS (common/pcss.h, 001 §4.5 eq. 17, docs/soft-shadows.md;
 // FiberRenderer's lobe maps and the frame's lookup): UBO 17, SSBO 70–73 are this group's.
 #define FT_UBO_PCSS 17             // PcssParams
@@ -160,7 +171,7 @@
 #define FT_UBO_PRT_VOL 22            // exemplar volume (common/exemplar_volume.h)
 #define FT_SSBO_PRT_VOL_IDS 64       // the segment-id volume
 #define FT_SSBO_PRT_VOL_SEGMENTS 69  // the segment table (direction, midpoint, cell)
-// SSBO 73 is the last free slot below 80.
+// SSBO 73 is taken by deferred shading (FT_SSBO_DEFERRED_LIST): no slot below 80 is free.
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u

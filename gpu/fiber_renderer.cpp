@@ -65,6 +65,32 @@ struct MultisampleTarget {
   }
 };
 
+// Deferred shading's visibility target: FT_VISIBILITY_TARGETS 4× multisampled
+// RGBA32F textures (the hit records, fiber_strip.frag.glsl ftPackHit) with the
+// shaded target's depth, and the list of distinct hits (FT_SSBO_DEFERRED_LIST).
+struct DeferredTarget {
+  Framebuffer fbo = Framebuffer::create();
+  Texture records[FT_VISIBILITY_TARGETS];
+  Buffer list;
+  int width, height;
+
+  DeferredTarget(int w, int h, GLuint depth) : width(w), height(h) {
+    GLenum buffers[FT_VISIBILITY_TARGETS];
+    for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) {
+      GLuint tex = 0;
+      glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
+      records[k] = Texture(tex);
+      glTextureStorage2DMultisample(tex, FT_DEFERRED_SAMPLES, GL_RGBA32F, w, h, GL_TRUE);
+      glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0 + k, tex, 0);
+      buffers[k] = GL_COLOR_ATTACHMENT0 + k;
+    }
+    glNamedFramebufferDrawBuffers(fbo.id(), FT_VISIBILITY_TARGETS, buffers);
+    glNamedFramebufferRenderbuffer(fbo.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    // At most one entry per sample: a header, then 32 bytes per entry.
+    list = makeBuffer(16 + size_t(w) * h * FT_DEFERRED_SAMPLES * 32, nullptr);
+  }
+};
+
 FiberRenderer::FiberRenderer(const GlInfo& gl, std::vector<std::string> defines)
     : defines_(std::move(defines)),
       // Planted fault (validation/faults.def) of the renderer's own C++: the map kept across setModel.
@@ -90,6 +116,7 @@ GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass 
     if (env) defines.push_back("FT_FRAME_ENVIRONMENT");
     if (pass == StripPass::PlainOccluders || pass == StripPass::CoreOccluders) defines.push_back("FT_OCCLUDER_PASS");
     if (pass == StripPass::PlainOccluders) defines.push_back("FT_OCCLUDER_PLAIN");
+    if (pass == StripPass::Visibility) defines.push_back("FT_VISIBILITY_PASS");
     if (pcss && shadedPass) defines.push_back("FT_FRAME_PCSS");  // soft shadows: compiled out otherwise (llvmpipe runs all code)
     p = Program(buildProgram(stages.files, defines));
   }
@@ -548,11 +575,90 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
     shadedTarget_ = std::make_unique<MultisampleTarget>(width, height, GL_RGBA32F);
   shadedTarget_->begin(glm::vec4(glm::vec3(inputs_.params.background), 0.0f));
   bindShading();
-  setUniform(prog, "shaded", 1u);
-  fibers.draw(path, prog);
+  if (deferred_) {
+    drawDeferred(fibers, path, ds, env, pcss, timings);
+    t = std::chrono::steady_clock::now();
+  } else {
+    setUniform(prog, "shaded", 1u);
+    fibers.draw(path, prog);
+  }
   if ((inputs_.params.flags.w & FT_APPEARANCE_FLYAWAYS) != 0u) drawFlyaways(fibers);  // the third pass
   shadedTarget_->finish();
-  if (timings) phase(timings->shadeMs);
+  if (timings) phase(deferred_ ? timings->deferredMs : timings->shadeMs);
+}
+
+// Deferred shading (docs/shaded-frame.md): on llvmpipe every rasterised
+// fragment costs the whole fragment shader (docs/llvmpipe-notes.md), so the
+// shading moves out of it. Called with the shaded target bound and cleared;
+// leaves it bound with the colour of every sample the fibers won written.
+void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss,
+                                 FrameTimings* timings) {
+  const int width = shadedTarget_->width, height = shadedTarget_->height;
+  if (!deferredTarget_ || deferredTarget_->width != width || deferredTarget_->height != height)
+    deferredTarget_ = std::make_unique<DeferredTarget>(width, height, shadedTarget_->depth.id());
+  DeferredTarget& dt = *deferredTarget_;
+  auto t = std::chrono::steady_clock::now();
+  // 1. The visibility pass: the forward pass's casts, coverage, core texture
+  // and depth, writing the hit records (0: no fiber) into the shared depth.
+  glBindFramebuffer(GL_FRAMEBUFFER, dt.fbo.id());
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glClearNamedFramebufferfv(dt.fbo.id(), GL_COLOR, k, zero);
+  const GLuint vis = program(fibers, path, StripPass::Visibility);
+  setUniform(vis, "shaded", 1u);
+  fibers.draw(path, vis);
+  if (timings) {
+    glFinish();
+    const auto now = std::chrono::steady_clock::now();
+    timings->shadeMs += std::chrono::duration<double, std::milli>(now - t).count();
+  }
+  // 2. The compaction: each pixel's distinct records, one entry each.
+  if (!compactProgram_) compactProgram_ = Program(buildProgram({"shaders/fiber_compact.comp.glsl"}, defines_));
+  const uint32_t header[4] = {0u, 0u, 0u, 0u};
+  dt.list.update(header, sizeof(header));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DEFERRED_LIST, dt.list.id());
+  for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glBindTextureUnit(FT_TEX_HIT_RECORD0 + k, dt.records[k].id());
+  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  glUseProgram(compactProgram_.id());
+  glProgramUniform2ui(compactProgram_.id(), glGetUniformLocation(compactProgram_.id(), "size"), GLuint(width),
+                      GLuint(height));
+  glDispatchCompute((width + FT_WG_DEFERRED_COMPACT - 1) / FT_WG_DEFERRED_COMPACT,
+                    (height + FT_WG_DEFERRED_COMPACT - 1) / FT_WG_DEFERRED_COMPACT, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  uint32_t count[4] = {};
+  glGetNamedBufferSubData(dt.list.id(), 0, sizeof(count), count);
+  const size_t capacity = size_t(width) * height * FT_DEFERRED_SAMPLES;
+  if (count[0] > capacity)
+    throw std::runtime_error(fmt::format("deferred shading: {} entries listed for {} samples", count[0], capacity));
+  deferredEntries_ = count[0];
+  // 3. The shading of the list: the forward pass's shadeFiber, in a compute stage.
+  Program& shade = shadeProgram_[ds ? 1 : 0][env ? 1 : 0][pcss ? 1 : 0];
+  if (!shade) {
+    std::vector<std::string> defines = defines_;
+    if (ds) defines.push_back("FT_FRAME_DUAL_SCATTERING");
+    if (env) defines.push_back("FT_FRAME_ENVIRONMENT");
+    if (pcss) defines.push_back("FT_FRAME_PCSS");
+    shade = Program(buildProgram({"shaders/fiber_shade.comp.glsl"}, defines));
+  }
+  fibers.bindYarn();  // the view, the yarn parameters and the curves (still bound: made sure)
+  dispatchFlat(shade.id(), deferredEntries_, FT_WG_DEFERRED_SHADE, maxGroupsY_, "fiber_shade");
+  for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glBindTextureUnit(FT_TEX_HIT_RECORD0 + k, 0);
+  // 4. The resolve: each entry's colour to its samples of the shaded target
+  // (one point per entry, gl_SampleMask; no depth test: the depth is the
+  // visibility pass's, kept for the flyaways).
+  if (!resolveProgram_)
+    resolveProgram_ =
+        Program(buildProgram({"shaders/fiber_resolve.vert.glsl", "shaders/fiber_resolve.frag.glsl"}, defines_));
+  if (!resolveVao_) resolveVao_ = VertexArray::create();
+  glBindFramebuffer(GL_FRAMEBUFFER, shadedTarget_->ms.id());
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(resolveProgram_.id());
+  glProgramUniform2ui(resolveProgram_.id(), glGetUniformLocation(resolveProgram_.id(), "size"), GLuint(width),
+                      GLuint(height));
+  glBindVertexArray(resolveVao_.id());
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  if (deferredEntries_ > 0) glDrawArrays(GL_POINTS, 0, GLsizei(deferredEntries_));
+  glBindVertexArray(0);
+  glEnable(GL_DEPTH_TEST);
 }
 
 ImageRgbaF FiberRenderer::read() const {

@@ -45,8 +45,9 @@ struct FrameTimings {
   double shadowMapMs = 0;   // the yarn shadow map's depth pass and copy (0 when off, or kept from an earlier frame)
   double generateMs = 0;    // fiber generation (compute path; the tessellation path generates while drawing)
   double depthMs = 0;       // the depth pre-pass (capsule coverage and depth only)
-  double shadeMs = 0;       // the shaded pass over the visible capsules
-  double totalMs() const { return shadowMapMs + generateMs + depthMs + shadeMs; }
+  double shadeMs = 0;       // the shaded pass over the visible capsules (deferred: the visibility pass)
+  double deferredMs = 0;    // deferred shading: the compaction, the shading of the list and the resolve
+  double totalMs() const { return shadowMapMs + generateMs + depthMs + shadeMs + deferredMs; }
 };
 
 class FiberRenderer {
@@ -75,6 +76,16 @@ class FiberRenderer {
   // The share of the last culled frame's pixels that an occluder covers at
   // every sample (pyramid level 0 below the far plane); 0 before one.
   double occludedFraction() const;
+  // Deferred shading (on by default; docs/shaded-frame.md): a visibility pass
+  // writes each fragment's hit instead of shading it, a compute pass lists
+  // each pixel's distinct hits, and only those are shaded (the forward pass's
+  // shadeFiber) and written to their samples. Off: the forward pass, which
+  // shades every fragment that reaches the fragment stage. The frame is the
+  // same either way (shading/deferred/*).
+  void setDeferred(bool on) { deferred_ = on; }
+  bool deferred() const { return deferred_; }
+  // Entries (distinct hits) the last deferred frame shaded; 0 before one.
+  size_t deferredEntries() const { return deferredEntries_; }
   ImageRgbaF read() const;
   ImageRgbaF render(FiberGpu& fibers, FiberPath path, int width, int height);
   // The shaded target's multisample positions in the pixel ([0, 1]², y down
@@ -132,7 +143,8 @@ class FiberRenderer {
     CoreOccluders,
     ShadedDualScattering,
     ShadedEnvironment,
-    ShadedDualScatteringEnvironment
+    ShadedDualScatteringEnvironment,
+    Visibility  // deferred shading's visibility pass (FT_VISIBILITY_PASS)
   };
   // pcss: the shaded passes with FT_FRAME_PCSS (soft shadows, the lobe maps).
   GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded, bool pcss = false);
@@ -144,7 +156,15 @@ class FiberRenderer {
   void bindOcclusion(bool enabled);
 
   std::vector<std::string> defines_;
-  Program programs_[2][6][2];  // [path][StripPass][FT_FRAME_PCSS]
+  Program programs_[2][7][2];  // [path][StripPass][FT_FRAME_PCSS]
+  // Deferred shading: the visibility pass into the hit records, then these.
+  void drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss, FrameTimings* timings);
+  bool deferred_ = true;
+  size_t deferredEntries_ = 0;
+  Program compactProgram_, resolveProgram_;
+  Program shadeProgram_[2][2][2];  // [FT_FRAME_DUAL_SCATTERING][FT_FRAME_ENVIRONMENT][FT_FRAME_PCSS]
+  VertexArray resolveVao_;
+  std::unique_ptr<struct DeferredTarget> deferredTarget_;
   // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
   bool occlusionCull_ = true;
   Program pyramidProgram_;

@@ -17,12 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "gpu/fiber_renderer.h"
-#include "gpu/shading_inputs_gpu.h"
-#include "scene/camera.h"
-#include "scene/lighting.h"
-#include "scene/yarn_radius.h"
-#include "validation/harness.h"
+#include "validation/harness_frame.h"
 
 namespace ft {
 namespace {
@@ -42,21 +37,10 @@ CaseResult runOcclusionCull(ValidationContext& ctx, const std::string& view, boo
   r.group = "shading";
   r.path = pathName;
   const auto t0 = Clock::now();
-  const YarnPreset& preset = findYarnPreset("cotton1");
-  const FiberSetup& setup = ctx.fiberSetup(preset);
-  const FittedFibers& fitted = ctx.fittedFibers(preset);
-  const Camera camera = namedViewCamera(view, ctx.model(), setup.params, glm::vec3(0.3f, 0.5f, 1.0f), kWidth, kHeight);
-  Lighting lighting;
-  lighting.fabric = "cotton";
-  FiberGpu& gpu = ctx.gpu<FiberGpu>();
-  gpu.setModel(ctx.buffers(), setup.table);
-  gpu.setParams(setup.params, makeViewParams(camera, ctx.options().lodThresholdPx, true, true));
-  gpu.setSegmentList({});
-  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
   const AppearanceOptions everything;  // core texture, self-shadow, AO fit, shadow map: the defaults
-  renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake(
-      {makeShadingParams(lighting), &fitted.fit.preset, everything, &setup.params, &setup.table}));
-  const FiberPath path = tessellation ? FiberPath::Tessellation : FiberPath::Compute;
+  const FiberPath path = prepareHarnessFrame(ctx, view, tessellation, everything, kWidth, kHeight);
+  FiberGpu& gpu = ctx.gpu<FiberGpu>();
+  FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
   renderer.setOcclusionCull(false);
   const ImageRgbaF all = renderer.render(gpu, path, kWidth, kHeight);
   renderer.setOcclusionCull(true);

@@ -17,6 +17,13 @@
 //  * 1: the fiber shading of Wu & Yuksel 2019 §4.3 (common/fiber_shading.h):
 //    the shared BCSDF per directional light plus the ambient table, in linear
 //    HDR radiance (a float target), alpha 1 for coverage.
+//
+// Deferred shading (docs/shaded-frame.md, FiberRenderer::drawDeferred):
+//  * FT_VISIBILITY_PASS: the same casts, coverage, core texture and depth, but
+//    instead of shading the fragment writes its hit (FiberHit, everything
+//    shadeFiber reads) as FT_VISIBILITY_TARGETS float vectors;
+//  * FT_DEFERRED_SHADE: this file included by fiber_shade.comp.glsl without
+//    the fragment stage (varyings, casts, main), for shadeFiber on the hits.
 #include "common/ambient_occlusion.h"
 #include "common/constants.h"
 #include "common/core_texture.h"
@@ -86,6 +93,7 @@ layout(std140, binding = FT_UBO_FRAME_SRBF) uniform FrameSrbfBlock {
 layout(std430, binding = FT_SSBO_FRAME_SRBF_TABLE) readonly buffer FrameSrbfTable { vec4 srbfTable[]; };
 #include "common/srbf_lighting.h"
 #endif
+#ifndef FT_DEFERRED_SHADE
 layout(location = 2) flat in uint stripType;
 layout(location = 3) in vec3 stripWorld;
 layout(location = 5) flat in vec3 lineP0;
@@ -104,11 +112,16 @@ layout(location = 17) flat in float lineNearestDepth;
 // Occlusion culling (common/occlusion_cull.h): level 0 of the occluders' depth pyramid.
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std430, binding = FT_SSBO_OCCLUSION) readonly buffer OcclusionTexels { float occlusionTexels[]; };
+#ifdef FT_VISIBILITY_PASS
+layout(location = 0) out vec4 hitRecord[FT_VISIBILITY_TARGETS];  // ftPackHit
+#else
 layout(location = 0) out vec4 color;
+#endif
 
 uniform uint shaded;
 uniform vec3 lightDir;
 uniform vec3 baseColor;
+#endif  // FT_DEFERRED_SHADE
 
 // The occluder pass (common/occlusion_cull.h) tests a capsule 5 % thinner:
 // where its centre ray hits, so does the shaded pass's, whatever the float
@@ -124,7 +137,32 @@ struct FiberHit {
   vec3 tangent;
   vec3 normal;
   float along;  // place along the line, [0, 1]
+  // Deferred shading only (FT_DEFERRED_SHADE): the line's yarn frame blended
+  // at `along` (unnormalised) and its curve, read from the hit record.
+  vec4 yarnC;
+  vec3 yarnN;
+  vec3 yarnB;
+  uint curve;
 };
+
+// What the shading reads of the line at a hit: the varyings in the fragment
+// stage, written exactly as before deferred shading so that the forward
+// pass compiles as it did (Mesa lowers mix() by what else a shader
+// computes, and a last-bit change can move a core-texture hole); the hit
+// record's copy in the deferred shading.
+#ifdef FT_DEFERRED_SHADE
+#define FT_HIT_YARN_C(h) (h).yarnC
+#define FT_HIT_YARN_N(h) (h).yarnN
+#define FT_HIT_YARN_B(h) (h).yarnB
+#define FT_HIT_CURVE(h) (h).curve
+#else
+#define FT_HIT_YARN_C(h) mix(lineYarnC0, lineYarnC1, (h).along)
+#define FT_HIT_YARN_N(h) mix(lineYarnN0, lineYarnN1, (h).along)
+#define FT_HIT_YARN_B(h) mix(lineYarnB0, lineYarnB1, (h).along)
+#define FT_HIT_CURVE(h) lineCurve
+#endif
+
+#ifndef FT_DEFERRED_SHADE
 
 // The first hit of the eye ray through o with the capsule. o is a point of
 // the rectangle, within a few radii of the line, so the quadratics are solved
@@ -201,6 +239,7 @@ bool capsuleCovers(vec3 o) {
   float r = FT_COVERAGE_SCALE * mix(lineHalfWidth.x, lineHalfWidth.y, u);
   return dot(across, across) <= r * r;
 }
+#endif  // FT_DEFERRED_SHADE
 
 float selfShadowTexel(uint i, uint j, uint k) { return selfShadowTexels[ftSelfShadowIndex(selfShadow, i, j, k)]; }
 vec4 selfShadowCorners(SelfShadowSample s, uint k) {
@@ -218,13 +257,13 @@ struct CrossSection {
 };
 CrossSection crossSection(FiberHit h) {
   CrossSection c;
-  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
-  c.N = normalize(mix(lineYarnN0, lineYarnN1, h.along));
-  vec3 b = mix(lineYarnB0, lineYarnB1, h.along);
+  vec4 cs = FT_HIT_YARN_C(h);
+  c.N = normalize(FT_HIT_YARN_N(h));
+  vec3 b = FT_HIT_YARN_B(h);
   c.B = normalize(b - dot(b, c.N) * c.N);
   vec3 q = h.position - cs.xyz;
   c.x = vec2(dot(q, c.N), dot(q, c.B));
-  TwistRates r = ftTwistRates(yarn, curves[lineCurve]);
+  TwistRates r = ftTwistRates(yarn, curves[FT_HIT_CURVE(h)]);
   c.plyAngle = FT_TWO_PI * yarn.plyTwistSign * fract(cs.w * r.ply);
   return c;
 }
@@ -251,6 +290,7 @@ float selfShadowTransmittance(CrossSection c, vec3 wi) {
 // height-map to determine these holes"), else replaces the hit's normal,
 // tangent (the BCSDF's fiber direction) and position (moved by h towards the
 // viewer, which the self-shadow lookup then uses).
+#ifndef FT_DEFERRED_SHADE
 vec4 coreTexel0(uint i, uint j) { return coreTex0[j * coreTexture.columns + i]; }
 vec4 coreTexel1(uint i, uint j) { return coreTex1[j * coreTexture.columns + i]; }
 vec4 coreLerp0(CoreLookup l) {
@@ -263,7 +303,7 @@ vec4 coreLerp1(CoreLookup l) {
 }
 bool applyCoreTexture(inout FiberHit h) {
   CrossSection c = crossSection(h);
-  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
+  vec4 cs = FT_HIT_YARN_C(h);
   vec3 T = normalize(cross(c.N, c.B));
   vec3 axisPoint = mix(lineP0, lineP1, h.along);  // the ply centre (the core runs along it)
   vec3 q = axisPoint - cs.xyz;
@@ -278,7 +318,7 @@ bool applyCoreTexture(inout FiberHit h) {
   float psiRel = atan(dot(vp, plyB), dot(vp, plyN));
   vec3 side = cross(T, vp);  // the texture's y: B̂_j when ψ_rel = 0
   // Φ(s) with the curve's own rates (whole turns on closed curves, as the generator).
-  TwistRates r = ftTwistRates(yarn, curves[lineCurve]);
+  TwistRates r = ftTwistRates(yarn, curves[FT_HIT_CURVE(h)]);
   YarnParams rates = yarn;
   rates.fiberTurnsPerLength = r.fiber;
   rates.plyTurnsPerLength = r.ply;
@@ -309,6 +349,7 @@ bool applyCoreTexture(inout FiberHit h) {
   h.position = axisPoint + (2.0 * t0.x - 1.0) * halfWidth * vp + y * side;
   return true;
 }
+#endif  // FT_DEFERRED_SHADE
 
 // ---- Ambient occlusion (000 §4.2, common/ambient_occlusion.h) ----
 // The yarn's AO at the hit: the cubic at r̂ = |x|/W, x the hit's offset from
@@ -394,7 +435,7 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
   vec3 local = ftDsRuntime(f, ftDsBackscatter(t, a, vec3(0.0)), 1.0);  // k_fly = 1: no flyaway scaling (A8)
   // The yarn's frame at the hit.
   vec3 T = normalize(cross(c.N, c.B));
-  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
+  vec4 cs = FT_HIT_YARN_C(h);
   vec3 vp = v - dot(v, T) * T;
   vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;  // seen end-on: any side
   // cs is the yarn at the hit's place along the fiber's line (its axis); on a
@@ -517,6 +558,44 @@ vec3 shadeFiber(FiberHit h) {
 #endif
 }
 
+// The shaded colour of a fiber of `type` at h (the planted faults of fiber types too).
+vec3 shadeFiberOfType(FiberHit h, uint type) {
+  vec3 rgb = shadeFiber(h);
+#ifdef FT_FAULT_SHADE_HAIR_BLACK
+  if (type == FT_FIBER_HAIR) rgb = vec3(0.0);  // hair fibers drawn black
+#endif
+#ifdef FT_FAULT_SHADE_NONCORE_BRIGHT
+  if (type != FT_FIBER_CORE) rgb *= 1.5;  // every explicit fiber 1.5x too bright
+#endif
+  return rgb;
+}
+
+// The deferred hit record (FT_VISIBILITY_TARGETS vec4s): every field of
+// FiberHit that shadeFiber reads, bit for bit, and the fiber type; record 0's
+// w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn.
+void ftPackHit(FiberHit h, uint type, out vec4 r[FT_VISIBILITY_TARGETS]) {
+  vec4 yc = FT_HIT_YARN_C(h);
+  vec3 yn = FT_HIT_YARN_N(h), yb = FT_HIT_YARN_B(h);
+  r[0] = vec4(h.position, float(1u + FT_HIT_CURVE(h) * 4u + type));
+  r[1] = vec4(h.tangent, yc.w);
+  r[2] = vec4(h.normal, yn.x);
+  r[3] = vec4(yc.xyz, yn.y);
+  r[4] = vec4(yb, yn.z);
+}
+void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
+  uint code = uint(r[0].w) - 1u;
+  type = code & 3u;
+  h.position = r[0].xyz;
+  h.tangent = r[1].xyz;
+  h.normal = r[2].xyz;
+  h.along = 0.0;  // not read by the shading (the yarn fields carry the line)
+  h.yarnC = vec4(r[3].xyz, r[1].w);
+  h.yarnN = vec3(r[2].w, r[3].w, r[4].w);
+  h.yarnB = r[4].xyz;
+  h.curve = code >> 2u;
+}
+
+#ifndef FT_DEFERRED_SHADE
 void main() {
 #ifdef FT_OCCLUDER_PASS
   // The occluder pass (common/occlusion_cull.h): the rasterised depth of the
@@ -578,14 +657,12 @@ void main() {
   // (The occluder pass, common/occlusion_cull.h, ends here: the rasterised
   // depth of its pushed-back rectangle stands at the samples the capsule
   // covers, less the core texture's holes, found as the shaded pass finds them.)
+#ifdef FT_VISIBILITY_PASS
+  // Deferred: the hit, shaded later by fiber_shade.comp.glsl.
+  ftPackHit(h, stripType, hitRecord);
+#else
   if (shaded != 0u) {
-    color = vec4(shadeFiber(h), 1.0);
-#ifdef FT_FAULT_SHADE_HAIR_BLACK
-    if (stripType == FT_FIBER_HAIR) color.rgb = vec3(0.0);  // hair fibers drawn black
-#endif
-#ifdef FT_FAULT_SHADE_NONCORE_BRIGHT
-    if (stripType != FT_FIBER_CORE) color.rgb *= 1.5;  // every explicit fiber 1.5x too bright
-#endif
+    color = vec4(shadeFiberOfType(h, stripType), 1.0);
   } else {
     float ct = dot(h.tangent, normalize(lightDir));
     float diffuse = sqrt(max(1.0 - ct * ct, 0.0));
@@ -593,7 +670,9 @@ void main() {
     vec3 tint = stripType == FT_FIBER_CORE ? baseColor * 0.7 : baseColor;
     color = vec4(tint * (0.25 + 0.75 * diffuse) * (0.5 + 0.5 * facing), 1.0);
   }
+#endif
   vec4 clip = view.viewProj * vec4(h.position, 1.0);
   gl_FragDepth = clamp(0.5 * (clip.z / clip.w) + 0.5, 0.0, 1.0);
 #endif
 }
+#endif  // FT_DEFERRED_SHADE

@@ -1,0 +1,64 @@
+// Deferred shading, the compaction (docs/shaded-frame.md "Deferred shading";
+// FiberRenderer::drawDeferred): lists each pixel's distinct hits. The
+// visibility pass wrote, at every sample a fiber won, that fragment's hit
+// record (fiber_strip.frag.glsl ftPackHit: everything the shading reads), so
+// samples with bit-identical records get the same colour from the shading:
+// one entry per distinct record, with the mask of the samples that hold it.
+// The forward pass shades once per fragment and writes that colour to the
+// fragment's covered samples, so a fragment's samples share one record and
+// the deferred frame shades each visible fragment once, as the forward did.
+#include "common/constants.h"
+#include "shaders/deferred_resources.glsl"
+
+layout(local_size_x = FT_WG_DEFERRED_COMPACT, local_size_y = FT_WG_DEFERRED_COMPACT) in;
+
+uniform uvec2 size;
+
+// The record's 20 words at sample s, as bits (so that equality is exact).
+void recordBits(ivec2 p, int s, out uvec4 r[FT_VISIBILITY_TARGETS]) {
+  vec4 f[FT_VISIBILITY_TARGETS];
+  hitRecordAt(p, s, f);
+  for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) r[k] = floatBitsToUint(f[k]);
+}
+
+bool sameRecord(uvec4 a[FT_VISIBILITY_TARGETS], uvec4 b[FT_VISIBILITY_TARGETS]) {
+  bool same = true;
+  for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) same = same && all(equal(a[k], b[k]));
+  return same;
+}
+
+void main() {
+  uvec2 q = gl_GlobalInvocationID.xy;
+  if (q.x >= size.x || q.y >= size.y) return;
+  ivec2 p = ivec2(q);
+  uvec4 r[FT_DEFERRED_SAMPLES][FT_VISIBILITY_TARGETS];
+  for (int s = 0; s < FT_DEFERRED_SAMPLES; ++s) recordBits(p, s, r[s]);
+  // Group the covered samples (record 0's w ≠ 0) by record: each group's
+  // first sample stands for it.
+  uint left = 0u;
+  for (int s = 0; s < FT_DEFERRED_SAMPLES; ++s)
+    if (r[s][0].w != 0u) left |= 1u << s;
+  uint masks[FT_DEFERRED_SAMPLES];
+  uint firsts[FT_DEFERRED_SAMPLES];
+  uint n = 0u;
+  for (int s = 0; s < FT_DEFERRED_SAMPLES; ++s) {
+    if ((left & (1u << s)) == 0u) continue;
+    uint mask = 0u;
+    for (int t = s; t < FT_DEFERRED_SAMPLES; ++t)
+      if ((left & (1u << t)) != 0u && sameRecord(r[s], r[t])) mask |= 1u << t;
+    left &= ~mask;
+    masks[n] = mask;
+    firsts[n] = uint(s);
+    ++n;
+  }
+#ifdef FT_FAULT_DEFERRED_DROP_LAST_SAMPLE
+  // The last covered sample of the pixel left out of its entry's mask.
+  if (n > 0u && bitCount(masks[n - 1u]) > 1) masks[n - 1u] &= ~(1u << uint(findMSB(masks[n - 1u])));
+#endif
+  if (n == 0u) return;
+  uint base = atomicAdd(header.x, n);
+  for (uint i = 0u; i < n; ++i) {
+    entries[base + i].where = uvec4(q, firsts[i], masks[i]);
+    entries[base + i].color = vec4(0.0);
+  }
+}

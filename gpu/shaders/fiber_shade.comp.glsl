@@ -1,0 +1,33 @@
+// Deferred shading, the shading (docs/shaded-frame.md "Deferred shading";
+// FiberRenderer::drawDeferred): shadeFiber of the forward pass
+// (fiber_strip.frag.glsl, included without its fragment stage) once per
+// entry of the compaction's list (fiber_compact.comp.glsl), on the hit record
+// the visibility pass wrote at the entry's sample. fiber_resolve.*.glsl then
+// writes the colour to the entry's samples.
+#include "common/constants.h"
+#define FT_DEFERRED_SHADE
+#include "fiber_strip.frag.glsl"
+#include "shaders/deferred_resources.glsl"
+#include "shaders/flat_dispatch.glsl"
+
+layout(local_size_x = FT_WG_DEFERRED_SHADE) in;
+
+uniform uint groupsX;
+uniform uint itemCount;
+
+void main() {
+  uint k = flatInvocationIndex(groupsX, FT_WG_DEFERRED_SHADE);
+  if (k >= itemCount) return;
+  uvec4 w = entries[k].where;
+  ivec2 p = ivec2(w.xy);
+  int s = int(w.z);
+#ifdef FT_FAULT_DEFERRED_WRONG_SAMPLE
+  s = (s + 1) % FT_DEFERRED_SAMPLES;  // the record of the pixel's next sample shaded instead
+#endif
+  vec4 r[FT_VISIBILITY_TARGETS];
+  hitRecordAt(p, s, r);
+  FiberHit h;
+  uint type;
+  ftUnpackHit(r, h, type);
+  entries[k].color = vec4(shadeFiberOfType(h, type), 1.0);
+}
