@@ -477,7 +477,7 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
 // dualScatteringLight forms them (for eq. 17's per-lobe lookups).
 vec2 xiTexCoordAt(FiberHit h, CrossSection c, vec3 v, out vec3 T) {
   T = normalize(cross(c.N, c.B));
-  vec4 cs = mix(lineYarnC0, lineYarnC1, h.along);
+  vec4 cs = FT_HIT_YARN_C(h);
   vec3 vp = v - dot(v, T) * T;
   vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;
   vec3 q = h.position - cs.xyz;
