@@ -36,6 +36,19 @@
 #include "constants.h"
 #include "sh.h"
 
+// Planted fault (validation/faults.def), shared (C++ run-time switch, GLSL
+// define): V̄_glo's σ_glo taken in texels instead of fabric units.
+#ifdef __cplusplus
+namespace ft {
+inline bool ftFaultMsVgloSigmaTexels = false;
+}
+#define FT_FAULT_MS_VGLO_SIGMA_TEXELS_ON ::ft::ftFaultMsVgloSigmaTexels
+#elif defined(FT_FAULT_MS_VGLO_SIGMA_TEXELS)
+#define FT_FAULT_MS_VGLO_SIGMA_TEXELS_ON true
+#else
+#define FT_FAULT_MS_VGLO_SIGMA_TEXELS_ON false
+#endif
+
 #define FT_MS_THETA_O 512          // C_S rows (004 §4.3)
 #define FT_MS_THETA_I_NODES 2048   // default θ_i nodes of C_S
 #define FT_MS_PHI_NODES 512        // default φ nodes of C_S
@@ -211,6 +224,40 @@ FT_FUNC ShCoeffs3 prtMsToOmegaOSpace(ShRotation r, ShCoeffs3 cT, int bands) {
 // the C_G row g lerped at λ and turned to ξ (SG, λ > 0).
 FT_FUNC ShCoeffs prtMsLightCoeffs(ShCoeffs y, PrtMsZonal g, bool sg, int bands) {
   return sg ? shZonalFromY(g.c, y, bands) : y;
+}
+
+// ---- V̄_glo (004 §5.3.2) ---------------------------------------------------
+// V̄_glo(x) = ∫_A K(x, x′) V_glo(x′) dx′ / ∫_A K(x, x′) dx′, K a 2D Gaussian of
+// std σ_glo in the flat fabric's plane. On a grid of V_glo (one value per texel
+// of side `texel` fabric units, A = the grid) the Gaussian is separable and so
+// is the normalisation (A a rectangle): one pass per axis, each normalised by
+// its own weight sum. Truncated at FT_MS_VGLO_SIGMAS σ [F] (mass beyond 4σ:
+// 6e-5). The GPU pass: prt_ms_visibility.comp.glsl.
+#define FT_MS_VGLO_SIGMAS 4.0
+#define FT_MS_VGLO_MAX_RADIUS 8192  // taps each side (llvmpipe's 65,535 loop iterations per invocation)
+
+// UBO FT_UBO_PRT_MS of the V̄_glo pass (std140): grid = (width, height, axis 0 = x / 1 = y, 0),
+// sigma = (σ_glo, texel side, 0, 0) in fabric units.
+struct PrtMsVgloParams {
+  uvec4 grid;
+  vec4 sigma;
+};
+FT_ASSERT_SIZE(PrtMsVgloParams, 32)
+
+// σ_glo in texels (the planted fault keeps fabric units).
+FT_FUNC shreal prtMsVgloSigmaTexels(shreal sigmaFabric, shreal texel) {
+  return FT_FAULT_MS_VGLO_SIGMA_TEXELS_ON ? sigmaFabric : sigmaFabric / texel;
+}
+// Taps each side of the centre.
+FT_FUNC int prtMsVgloRadius(shreal sigmaTexels) {
+  return int(min(ceil(SHR(FT_MS_VGLO_SIGMAS) * max(sigmaTexels, SHR(0.0))), SHR(FT_MS_VGLO_MAX_RADIUS)));
+}
+// Unnormalised weight of the tap d texels from the centre (σ → 0: the centre alone).
+FT_FUNC shreal prtMsVgloWeight(int d, shreal sigmaTexels) {
+  if (d == 0) return SHR(1.0);
+  if (!(sigmaTexels > SHR(1e-6))) return SHR(0.0);
+  shreal x = shreal(d) / sigmaTexels;
+  return exp(SHR(-0.5) * x * x);
 }
 
 FT_NAMESPACE_END

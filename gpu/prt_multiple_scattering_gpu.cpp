@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <initializer_list>
 #include <stdexcept>
+#include <utility>
 
 #include "gpu/compute_dispatch.h"
 #include "gpu/gl_check.h"
@@ -25,7 +26,7 @@ Buffer bindPlaceholders(std::initializer_list<GLuint> slots) {
 }  // namespace
 
 PrtMultipleScatteringGpu::PrtMultipleScatteringGpu(const GlInfo& gl, const std::vector<std::string>& defines)
-    : maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {
+    : maxGroupsY_(gl.maxComputeWorkGroupCount[1]), defines_(defines) {
   glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &uboBindings_);
   glCheck("glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS)");
   if (uboBindings_ <= FT_UBO_PRT_MS || gl.maxShaderStorageBufferBindings <= FT_SSBO_PRT_MS_TABLES)
@@ -138,6 +139,29 @@ std::vector<glm::vec3> PrtMultipleScatteringGpu::evaluate(std::span<const PrtMsQ
   std::vector<glm::vec3> r(raw.size());
   for (size_t i = 0; i < raw.size(); ++i) r[i] = glm::vec3(raw[i]);
   return r;
+}
+
+std::vector<float> PrtMultipleScatteringGpu::vgloFilter(std::span<const float> v, int width, int height, float texel,
+                                                        float sigma) {
+  if (width < 1 || height < 1 || v.size() != size_t(width) * size_t(height) || !(texel > 0.0f) || !(sigma > 0.0f))
+    throw std::invalid_argument(fmt::format("PrtMultipleScatteringGpu::vgloFilter: {} values for {} × {}, texel {}, σ {}",
+                                            v.size(), width, height, texel, sigma));
+  if (!vgloProgram_.id()) vgloProgram_ = Program(buildProgram({"shaders/prt_ms_visibility.comp.glsl"}, defines_));
+  const size_t n = v.size();
+  Buffer a = Buffer::create(n * 4, v.data());
+  Buffer b = Buffer::create(n * 4);
+  for (uint32_t axis = 0; axis < 2; ++axis) {  // x then y, as the CPU twin
+    PrtMsVgloParams p{};
+    p.grid = glm::uvec4(uint32_t(width), uint32_t(height), axis, 0u);
+    p.sigma = glm::vec4(sigma, texel, 0.0f, 0.0f);
+    const Buffer u = Buffer::create(sizeof(p), &p);
+    u.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_MS);
+    a.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TABLES);
+    b.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
+    dispatchFlat(vgloProgram_.id(), n, FT_WG_PRT_MS, maxGroupsY_, "prt_ms_visibility (V̄_glo)");
+    std::swap(a, b);
+  }
+  return readBuffer<float>(a.id(), n);
 }
 
 std::vector<float> PrtMultipleScatteringGpu::shProbe(std::span<const glm::vec3> dirs, std::span<const glm::vec3> rx,

@@ -44,6 +44,10 @@ class PrtMultipleScatteringGpu {
   std::vector<float> shProbe(std::span<const glm::vec3> directions, std::span<const glm::vec3> rx,
                              std::span<const glm::vec3> ry);
   int uniformBufferBindings() const { return uboBindings_; }
+  // V̄_glo (004 §5.3.2): the normalised separable Gaussian filter of a V_glo grid (row-major,
+  // width × height, texel side and σ_glo in fabric units), prt_ms_visibility.comp.glsl (its
+  // own small program, built on first use). std::invalid_argument for mismatched sizes.
+  std::vector<float> vgloFilter(std::span<const float> v, int width, int height, float texel, float sigma);
 
  private:
   Buffer params(uint32_t mode, uint32_t count, uint32_t bands, uint32_t thetaI, uint32_t phi, uint32_t thetaO,
@@ -51,6 +55,8 @@ class PrtMultipleScatteringGpu {
   int maxGroupsY_ = 65535;
   int uboBindings_ = 0;
   Program program_;
+  Program vgloProgram_;
+  std::vector<std::string> defines_;
 };
 
 }  // namespace ft

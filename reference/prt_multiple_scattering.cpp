@@ -436,4 +436,51 @@ glm::dvec3 prtMsRadianceCpu(const PrtMsTables& tables, std::span<const double> a
   return L;
 }
 
+// ---- V̄_glo ----------------------------------------------------------------------
+
+std::vector<double> prtMsVgloFilterCpu(std::span<const double> v, int width, int height, double texel, double sigma) {
+  if (width < 1 || height < 1 || v.size() != size_t(width) * size_t(height))
+    throw InputError(fmt::format("V_glo grid: {} values for {} × {} texels", v.size(), width, height));
+  if (!(texel > 0.0) || !std::isfinite(texel)) throw InputError(fmt::format("V_glo grid: texel side {} (> 0)", texel));
+  if (!(sigma > 0.0) || !std::isfinite(sigma)) throw InputError(fmt::format("V_glo: σ_glo {} (> 0)", sigma));
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw InputError(fmt::format("V_glo grid: texel ({}, {}) is {}", i % size_t(width), i / size_t(width), v[i]));
+  const double s = prtMsVgloSigmaTexels(sigma, texel);
+  const int r = prtMsVgloRadius(s);
+  std::vector<double> k(size_t(2 * r + 1));
+  for (int d = -r; d <= r; ++d) k[size_t(d + r)] = prtMsVgloWeight(d, s);
+  // One axis: normalised by the weights inside the grid (A is the grid, 004's ∫_A K).
+  auto pass = [&](const std::vector<double>& in, bool alongX) {
+    std::vector<double> out(in.size());
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const int c = alongX ? x : y, n = alongX ? width : height;
+        double num = 0.0, den = 0.0;
+        for (int d = std::max(-r, -c); d <= std::min(r, n - 1 - c); ++d) {
+          const size_t at = alongX ? size_t(y) * size_t(width) + size_t(x + d) : size_t(y + d) * size_t(width) + size_t(x);
+          num += k[size_t(d + r)] * in[at];
+          den += k[size_t(d + r)];
+        }
+        out[size_t(y) * size_t(width) + size_t(x)] = num / den;
+      }
+    return out;
+  };
+  return pass(pass(std::vector<double>(v.begin(), v.end()), true), false);
+}
+
+double prtMsVgloSampleCpu(const std::function<double(glm::dvec2)>& vGlo, glm::dvec2 x, double sigma, int samples,
+                          uint32_t stream, uint32_t seed) {
+  if (!(sigma > 0.0) || !std::isfinite(sigma) || samples < 1)
+    throw InputError(fmt::format("V̄_glo sampling: σ_glo {}, {} samples (σ > 0, ≥ 1 sample)", sigma, samples));
+  RandomStream rng(stream, 0u, seed);
+  double sum = 0.0;
+  for (int i = 0; i < samples; ++i) {
+    const double u1 = 1.0 - double(rng.next()), u2 = rng.next();  // u1 ∈ (0, 1]
+    const double rad = sigma * std::sqrt(-2.0 * std::log(u1));
+    sum += vGlo(x + rad * glm::dvec2(std::cos(2.0 * kPi * u2), std::sin(2.0 * kPi * u2)));
+  }
+  return sum / double(samples);
+}
+
 }  // namespace ft

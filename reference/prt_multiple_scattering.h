@@ -10,6 +10,7 @@
 //   * prtMsRadianceCpu: L̃^multi of one query (004 §5.3.1) in double.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -135,5 +136,18 @@ IirtfCell iirtfCellCpu(const IirtfScene& scene, const Exemplar& block, int tiles
 // L̃^multi of one query with A_C (kIirtfMatrixSize values, any precision the
 // caller converted to double) and the tables, first `bands` bands.
 glm::dvec3 prtMsRadianceCpu(const PrtMsTables& tables, std::span<const double> a, int bands, const PrtMsQuery& q);
+
+// ---- V̄_glo (004 §5.3.2) ----------------------------------------------------------
+// The normalised Gaussian filter of a V_glo grid (row-major, width × height,
+// texels of side `texel` fabric units, A = the grid), σ_glo in fabric units:
+// common/'s weights, one pass per axis in double. InputError naming the value
+// for sizes that do not match, a non-positive texel or σ, a non-finite V.
+std::vector<double> prtMsVgloFilterCpu(std::span<const double> v, int width, int height, double texel, double sigma);
+// 004's CPU estimator of V̄_glo at x over the unbounded fabric plane: x′ = x +
+// σ_glo (g1, g2), g Gaussian (Box–Muller on the shared counter hash keyed by
+// (stream, seed)), the mean of V_glo(x′) over `samples` draws (the kernel is
+// the sampling density, so the ratio of 004's two integrals is the plain mean).
+double prtMsVgloSampleCpu(const std::function<double(glm::dvec2)>& vGlo, glm::dvec2 x, double sigma, int samples,
+                          uint32_t stream, uint32_t seed);
 
 }  // namespace ft

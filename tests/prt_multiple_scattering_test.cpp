@@ -403,5 +403,107 @@ TEST(IirtfBake, SameBytesForAnyThreadCountAndTheReaderReadsIt) {
   EXPECT_THROW(iirtfBake({"--albedo-is-not-an-option", "1"}), std::exception);
 }
 
+// The sparse CI block (6 fibers per ply), where L̃^multi is far from path tracing
+// (docs/prt-multiple-scattering.md, "the sparse block"): the zeroth coefficient of A_C must still
+// be 4π E[T] over ω0, ω1 uniform on the sphere (T = 0 for ω0 below) and k uniform in the cell,
+// estimated here with directions drawn by this file's own code — so the solid-angle factors,
+// the hemisphere density, the per-cell mean and the escaping (T = 0) paths are right there, and the
+// gap is the transfer's shape (spiky in ω1, anisotropic), not its normalisation.
+TEST(Iirtf, SparseBlockZerothCoefficientIsTheMeanTransfer) {
+  const FabricParams p = findFabricPreset("fleece").params();
+  ExemplarSettings ex;  // fibersPerPly 6: the sparse CI block
+  const Exemplar block = makePlainWeaveExemplar(ex);
+  IirtfSettings s;
+  s.tiles = 3;
+  s.pathsPerCell = 120000;
+  const IirtfScene scene(tileExemplar(block, s.tiles));
+  std::vector<uint32_t> members;
+  for (uint32_t k = 0; k < block.segments.size(); k += 4) members.push_back(k);
+  const IirtfCell cell = iirtfCellCpu(scene, block, s.tiles, p, s, members);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto sphere = [&] {
+    const double z = 2.0 * u(rng) - 1.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), ph = 2.0 * kPi * u(rng);
+    return glm::dvec3(r * std::cos(ph), r * std::sin(ph), z);
+  };
+  const int n = 600000;
+  double sum = 0.0, sq = 0.0;
+  uint64_t rays = 0, nonZero = 0;
+  const size_t S = block.segments.size();
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec3 w0 = sphere(), w1 = sphere();
+    const uint32_t k = members[size_t(u(rng) * double(members.size())) % members.size()];
+    const ExemplarSegment& own = scene.segments()[centreCopy(s.tiles) * S + k];
+    double t = 0.0;
+    if (w0.z > 0.0) {
+      const glm::dvec3 T = iirtfPathRadiance(scene, p, 1.0, s.maxDepth, own.mid(), own.fiber, glm::vec3(w0),
+                                             glm::vec3(w1), 0xABCu, uint32_t(i), 77u, rays);
+      t = (T.x + T.y + T.z) / 3.0;
+    }
+    nonZero += t != 0.0;
+    sum += t;
+    sq += t * t;
+  }
+  const double mean = sum / n, sd = std::sqrt((sq / n - mean * mean) / n);
+  const size_t plane = size_t(FT_SH_COEFFS) * FT_SH_COEFFS;
+  const double a00 = (cell.a[0] + cell.a[plane] + cell.a[2 * plane]) / 3.0;
+  // a00 = ∫∫ T Y_00² = (1/4π) ∫∫ T = 4π E[T]. σ: this estimate's and the bake's (its own 120,000 paths
+  // sample the same mean; taken equal per path, scaled by the path counts).
+  const double sigma = 4.0 * kPi * sd * std::sqrt(1.0 + double(n) / double(cell.paths));
+  fmt::print("sparse block: a00 {:.5g}, 4π E[T] {:.5g} ± {:.2g} ({} of {} (ω0, ω1) non-zero)\n", a00, 4.0 * kPi * mean,
+             sigma, nonZero, n);
+  EXPECT_GT(nonZero, 100u);
+  EXPECT_LT(double(nonZero) / n, 0.5);  // sparse indeed: most (ω0, ω1) carry no transfer
+  EXPECT_LT(std::abs(a00 - 4.0 * kPi * mean), 4.0 * sigma)
+      << "a00 " << a00 << " vs 4π E[T] " << 4.0 * kPi * mean << " ± " << sigma << ", " << nonZero << " of " << n
+      << " non-zero";
+}
+
+// V̄_glo (004 §5.3.2): the separable filter equals the 2D normalised Gaussian sum over the grid
+// (written here with its own weights), and bad input is refused naming it.
+TEST(PrtMsVglo, SeparableFilterIsTheNormalisedGaussianSumOverTheGrid) {
+  const int w = 23, h = 17;
+  const double texel = 0.01, sigma = 0.027;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> v(size_t(w) * h);
+  for (double& x : v) x = u(rng) < 0.4 ? 0.0 : u(rng);
+  const std::vector<double> f = prtMsVgloFilterCpu(v, w, h, texel, sigma);
+  const double st = sigma / texel;
+  const int r = int(std::ceil(4.0 * st));
+  double worst = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double num = 0.0, den = 0.0;
+      for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
+        for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx) {
+          const double k = std::exp(-0.5 * (double((xx - x) * (xx - x)) + double((yy - y) * (yy - y))) / (st * st));
+          num += k * v[size_t(yy) * w + size_t(xx)];
+          den += k;
+        }
+      worst = std::max(worst, std::abs(f[size_t(y) * w + size_t(x)] - num / den));
+    }
+  EXPECT_LT(worst, 1e-13);
+  auto message = [&](auto&& call) {
+    try {
+      call();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message([&] { prtMsVgloFilterCpu(v, w, h + 1, texel, sigma); }).find("23 × 18"), std::string::npos);
+  EXPECT_NE(message([&] { prtMsVgloFilterCpu(v, w, h, 0.0, sigma); }).find("texel side 0"), std::string::npos);
+  EXPECT_NE(message([&] { prtMsVgloFilterCpu(v, w, h, texel, -1.0); }).find("σ_glo -1"), std::string::npos);
+  std::vector<double> bad = v;
+  bad[size_t(5) * w + 7] = std::nan("");
+  EXPECT_NE(message([&] { prtMsVgloFilterCpu(bad, w, h, texel, sigma); }).find("texel (7, 5)"), std::string::npos);
+  // 004's CPU sampler: V ≡ 1 → 1 exactly; a half plane → ½ within the binomial σ.
+  EXPECT_EQ(prtMsVgloSampleCpu([](glm::dvec2) { return 1.0; }, glm::dvec2(0.3, 0.2), 0.05, 100, 1u, 2u), 1.0);
+  const double half = prtMsVgloSampleCpu([](glm::dvec2 x) { return x.x > 0.0 ? 1.0 : 0.0; }, glm::dvec2(0.0, 0.0), 0.05,
+                                         20000, 3u, 4u);
+  EXPECT_LT(std::abs(half - 0.5), 4.0 * 0.5 / std::sqrt(20000.0));
+}
+
 }  // namespace
 }  // namespace ft
