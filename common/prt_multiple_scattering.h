@@ -260,5 +260,24 @@ FT_FUNC shreal prtMsVgloWeight(int d, shreal sigmaTexels) {
   return exp(SHR(-0.5) * x * x);
 }
 
+// ---- GPU accumulation of the IIRTF estimator (004 §4.2c) --------------------
+// The path tracer stays on the CPU (Embree); its samples (ω0, ω1, T rgb) go to
+// prt_ms_accumulate.comp.glsl: pass 0 one invocation per sample writes Y(ω0),
+// Y(ω1) (72 floats); pass 1 one invocation per (chunk of FT_MS_ACC_CHUNK
+// samples, entry j1·36 + j0) writes Σ T Y_j1(ω1) Y_j0(ω0) rgb of its chunk;
+// the CPU adds the chunks in order and scales by 1/(N p(ω0) p(ω1)).
+#define FT_MS_ACC_CHUNK 2048
+struct PrtMsSample {
+  vec4 w0;  // xyz ω0 (towards the light, upper hemisphere)
+  vec4 w1;  // xyz ω1
+  vec4 t;   // rgb T(ω0, ω1, μ_k)
+};
+FT_ASSERT_SIZE(PrtMsSample, 48)
+// UBO FT_UBO_PRT_MS of the accumulation (std140): sizes = (pass, samples, chunks, 0).
+struct PrtMsAccumParams {
+  uvec4 sizes;
+};
+FT_ASSERT_SIZE(PrtMsAccumParams, 16)
+
 FT_NAMESPACE_END
 #endif  // FT_PRT_MULTIPLE_SCATTERING_H

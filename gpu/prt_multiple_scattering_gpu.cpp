@@ -141,6 +141,43 @@ std::vector<glm::vec3> PrtMultipleScatteringGpu::evaluate(std::span<const PrtMsQ
   return r;
 }
 
+std::vector<double> PrtMultipleScatteringGpu::accumulateIirtf(std::span<const PrtMsSample> samples) {
+  std::vector<double> a(kMatrix, 0.0);
+  if (samples.empty()) return a;
+  if (!accumulateProgram_.id())
+    accumulateProgram_ = Program(buildProgram({"shaders/prt_ms_accumulate.comp.glsl"}, defines_));
+  const size_t n = samples.size(), chunks = (n + FT_MS_ACC_CHUNK - 1) / FT_MS_ACC_CHUNK;
+  const size_t entries = size_t(FT_SH_COEFFS) * FT_SH_COEFFS;
+  const Buffer in = Buffer::create(n * sizeof(PrtMsSample), samples.data());
+  const Buffer ys = Buffer::create(n * 72 * 4);
+  in.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_REQUESTS);
+  {
+    const Buffer unused = bindPlaceholders({FT_SSBO_PRT_MS_TABLES});
+    PrtMsAccumParams p{};
+    p.sizes = glm::uvec4(0u, uint32_t(n), uint32_t(chunks), 0u);
+    const Buffer u = Buffer::create(sizeof(p), &p);
+    u.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_MS);
+    ys.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
+    dispatchFlat(accumulateProgram_.id(), n, FT_WG_PRT_MS, maxGroupsY_, "prt_ms_accumulate (Y)");
+  }
+  const Buffer partial = Buffer::create(chunks * entries * 16);
+  ys.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TABLES);
+  partial.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
+  PrtMsAccumParams p{};
+  p.sizes = glm::uvec4(1u, uint32_t(n), uint32_t(chunks), 0u);
+  const Buffer u = Buffer::create(sizeof(p), &p);
+  u.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_MS);
+  dispatchFlat(accumulateProgram_.id(), chunks * entries, FT_WG_PRT_MS, maxGroupsY_, "prt_ms_accumulate (sums)");
+  const std::vector<float> raw = readBuffer<float>(partial.id(), chunks * entries * 4);
+  // 1 / (N p(ω0) p(ω1)) = 2π · 4π / N (004 §4.2c); chunks added in order.
+  const double scale = 8.0 * 3.14159265358979323846 * 3.14159265358979323846 / double(n);
+  for (size_t c = 0; c < chunks; ++c)
+    for (size_t e = 0; e < entries; ++e)
+      for (size_t ch = 0; ch < 3; ++ch) a[ch * entries + e] += double(raw[(c * entries + e) * 4 + ch]);
+  for (double& v : a) v *= scale;
+  return a;
+}
+
 std::vector<float> PrtMultipleScatteringGpu::vgloFilter(std::span<const float> v, int width, int height, float texel,
                                                         float sigma) {
   if (width < 1 || height < 1 || v.size() != size_t(width) * size_t(height) || !(texel > 0.0f) || !(sigma > 0.0f))

@@ -47,6 +47,11 @@ class PrtMultipleScatteringGpu {
   // V̄_glo (004 §5.3.2): the normalised separable Gaussian filter of a V_glo grid (row-major,
   // width × height, texel side and σ_glo in fabric units), prt_ms_visibility.comp.glsl (its
   // own small program, built on first use). std::invalid_argument for mismatched sizes.
+  // The IIRTF estimator of 004 §4.2c accumulated on the GPU over CPU-produced samples (ω0 on the
+  // upper hemisphere, ω1 on the sphere, T): A = (1/N) Σ T Y(ω1) Y(ω0)ᵀ / (p(ω0) p(ω1)), [ch][j1][j0]
+  // (kIirtf matrix layout), float sums per chunk of FT_MS_ACC_CHUNK samples added in order in double
+  // here. prt_ms_accumulate.comp.glsl, its own program built on first use.
+  std::vector<double> accumulateIirtf(std::span<const PrtMsSample> samples);
   std::vector<float> vgloFilter(std::span<const float> v, int width, int height, float texel, float sigma);
 
  private:
@@ -56,6 +61,7 @@ class PrtMultipleScatteringGpu {
   int uboBindings_ = 0;
   Program program_;
   Program vgloProgram_;
+  Program accumulateProgram_;
   std::vector<std::string> defines_;
 };
 
