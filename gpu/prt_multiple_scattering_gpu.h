@@ -3,8 +3,10 @@
 // prt_multiple_scattering.comp.glsl; docs/prt-multiple-scattering.md): the
 // tables C_S and C_G baked in float, L̃^multi per query from given A_C
 // matrices and tables, and an SH probe (Y and its rotation) for the identity
-// checks. The IIRTF path tracing stays on the CPU (Embree). Every call
-// uploads, dispatches and reads back.
+// checks; the estimator of 004 §4.2c summed over CPU-produced samples
+// (prt_ms_accumulate.comp.glsl) and V̄_glo of §5.3.2 (prt_ms_visibility.comp.glsl).
+// The IIRTF path tracing stays on the CPU (Embree). Every call uploads,
+// dispatches and reads back.
 #pragma once
 #include <epoxy/gl.h>
 

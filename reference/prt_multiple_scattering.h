@@ -7,7 +7,9 @@
 //     sampling of reference/bcsdf_sampling.h, next-event estimation to the
 //     directional light, Russian roulette after 3 bounces) and the estimator
 //     of 004 §4.2c;
-//   * prtMsRadianceCpu: L̃^multi of one query (004 §5.3.1) in double.
+//   * prtMsRadianceCpu: L̃^multi of one query (004 §5.3.1) in double;
+//   * prtMsVgloFilterCpu / prtMsVgloSampleCpu: V̄_glo (004 §5.3.2), the
+//     normalised Gaussian filter of a V_glo grid and 004's CPU Monte Carlo.
 #pragma once
 #include <cstdint>
 #include <functional>
