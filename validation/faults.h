@@ -15,6 +15,7 @@
 #include "common/flyaway.h"
 #include "common/lod.h"
 #include "common/pcss.h"
+#include "common/prt_frame.h"
 #include "common/prt_single_scattering.h"
 #include "common/segment_visibility.h"
 #include "common/sh.h"
