@@ -52,6 +52,7 @@ CLI::App* addPrtFrameCommand(CLI::App& app, PrtFrameCommandOptions& o) {
   c->add_option("--seed", f.seed)->capture_default_str();
   c->add_option("--out", o.out, "output stem: <out>_prt.exr/.png, <out>_pt.exr/.png")->capture_default_str();
   c->add_option("--exposure", o.exposure, "PNG exposure in stops")->capture_default_str();
+  c->add_flag("--embree-gbuffer", f.embreeGBuffer, "experiment: PRT shading at the capsules' Embree first hits, not the volume's ids");
   c->add_flag("--no-reference", o.noReference, "PRT only (no path tracing)");
   return c;
 }

@@ -192,10 +192,20 @@ VolParams PrtFrameScene::rays(const PrtFrameView& view) const {
 PrtFrameParts PrtFrameScene::renderPrt(const PrtFrameView& view) {
   Impl& m = *impl_;
   const VolParams rp = rays(view);
-  const std::vector<VolHit> hits = sampleVolumeCpu(m.volume, rp);  // 004 §5.1: the G-buffer (timed below again)
-  m.bakeFor(hits);
-  const auto t0 = Clock::now();
-  const std::vector<VolHit> gbuffer = sampleVolumeCpu(m.volume, rp);
+  const auto gbufferOf = [&] {
+    if (!m.s.embreeGBuffer) return sampleVolumeCpu(m.volume, rp);  // 004 §5.1
+    std::vector<VolHit> g(size_t(m.s.width) * size_t(m.s.height), VolHit{});
+    tbb::parallel_for(size_t(0), g.size(), [&](size_t i) {
+      const uint32_t x = uint32_t(i % size_t(m.s.width)), y = uint32_t(i / size_t(m.s.width));
+      IirtfScene::Hit h;
+      if (m.scene->intersect(ftVolRayOrigin(rp, x, y), ftVolRayDirection(rp, x, y), kNoFiber, h))
+        g[i].id = uint32_t(h.segment % m.block.segments.size()) + 1u;
+    });
+    return g;
+  };
+  m.bakeFor(gbufferOf());
+  const auto t0 = Clock::now();  // the frame: G-buffer again (the bakes above needed its ids), shading, composition
+  const std::vector<VolHit> gbuffer = gbufferOf();
   const int W = m.s.width, H = m.s.height, n = m.s.svfSize;
   const size_t N = size_t(W) * size_t(H);
   std::vector<size_t> pixels;

@@ -36,6 +36,7 @@ struct PrtFrameSettings {
   int tiles = 5;                  // N × N copies (Embree scenes)
   int width = 32, height = 32;    // the image
   int volumeSamples = 256;        // N per eye ray (004 §5.1)
+  bool embreeGBuffer = false;     // experiment: the G-buffer from Embree first hits on the capsules, not the volume
   int voxelsPerDiameter = 1;      // volume voxels per fiber diameter (1: h ≈ 2 r_f, notes §8.7)
   int svfSize = 32;               // the visibility image is svfSize × svfSize (004: 128)
   int bands = 5;                  // SH bands L + 1 of multiple scattering (004 Table 1: L = 4 for Fleece)
