@@ -66,6 +66,61 @@ FT_FUNC int ftPrtFrameSvfPixel(vec3 w, int width, int height) {
   return y * width + x;
 }
 
+// The GPU twin's parameters (std140 UBO FT_UBO_PRT_FRAME).
+struct PrtFrameParams {
+  vec4 light;   // xyz ω_d or ξ (unit, towards the light), w λ (0: directional)
+  uvec4 sizes;  // x pixels, y visibility image side n, z mode (0 requests, 1 compose), w segments of the block
+};
+FT_ASSERT_SIZE(PrtFrameParams, 32)
+
+// One pixel (std430, FT_SSBO_PRT_FRAME): the single-scattering request (the
+// four vec4 of PrtSsRequest, common/prt_single_scattering.h), the
+// multiple-scattering query (PrtMsQuery, common/prt_multiple_scattering.h),
+// their results and the composed radiance (total.w: 1 covered, 0 a miss).
+struct PrtFramePixel {
+  vec4 ssTangent, ssOutgoing, ssLight, ssSegment;
+  vec4 msWo, msTangent, msLight;
+  uvec4 msCell;
+  vec4 single, multi, total;
+};
+FT_ASSERT_SIZE(PrtFramePixel, 176)
+
+FT_FUNC PrtFramePixel ftPrtFrameMiss() {
+  PrtFramePixel p;
+  p.ssTangent = vec4(0.0f);
+  p.ssOutgoing = vec4(0.0f);
+  p.ssLight = vec4(0.0f);
+  p.ssSegment = vec4(0.0f);
+  p.msWo = vec4(0.0f);
+  p.msTangent = vec4(0.0f);
+  p.msLight = vec4(0.0f);
+  p.msCell = uvec4(0u);
+  p.single = vec4(0.0f);
+  p.multi = vec4(0.0f);
+  p.total = vec4(0.0f);
+  return p;
+}
+
+// The requests of a covered pixel: segment k (a, b) of the G-buffer, the eye
+// ray's direction, d_k at the light (ssdfAtLight), R_k (angle), k's IIRTF
+// cell, the light (xyz, λ). Fabric 0; V_glo = 1 (the flat fabric).
+FT_FUNC PrtFramePixel ftPrtFrameRequests(uint k, vec3 rayDirection, vec3 a, vec3 b, float ssdfAtLight, float angle,
+                                         uint cell, vec4 light) {
+  vec3 wo = ftPrtFrameOutgoing(rayDirection);
+  vec3 t = ftPrtFrameTangent(a, b);
+  PrtFramePixel p = ftPrtFrameMiss();
+  p.ssTangent = vec4(t.x, t.y, t.z, 0.0f);
+  p.ssOutgoing = vec4(wo.x, wo.y, wo.z, 1.0f);
+  p.ssLight = light;
+  p.ssSegment = vec4(ssdfAtLight, angle, float(k), 0.0f);
+  p.msWo = vec4(wo.x, wo.y, wo.z, 0.0f);
+  p.msTangent = vec4(t.x, t.y, t.z, 0.0f);
+  p.msLight = light;
+  p.msCell = uvec4(cell, 0u, 0u, 0u);
+  p.total = vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  return p;
+}
+
 // L = L^single + V̄_glo L̃^multi (004 §5, §5.3).
 FT_FUNC vec3 ftPrtFrameCompose(vec3 single, vec3 multi, float vGloBar) {
   if (FT_FAULT_PRT_FRAME_MS_DROPPED_ON) return single;  // planted: single scattering only

@@ -171,6 +171,30 @@ size_t PrtFrameScene::cellCount() const { return impl_->cells.count(); }
 size_t PrtFrameScene::svfBaked() const { return impl_->svfBaked; }
 size_t PrtFrameScene::cellsBaked() const { return impl_->cellsBaked; }
 
+PrtFrameData PrtFrameScene::gpuData() const {
+  const Impl& m = *impl_;
+  PrtFrameData d;
+  d.fabric = m.fabric;
+  d.layout = m.volume.layout;
+  d.segments = volumeSegments(m.block);
+  d.candidates = buildVolumeCandidates(m.block, d.layout);
+  d.svfSize = m.s.svfSize;
+  d.axes = m.sosg.axes;
+  d.lambdaSvf = m.sosg.lambdaSvf;
+  const size_t S = m.block.segments.size(), n2 = size_t(m.s.svfSize) * size_t(m.s.svfSize);
+  d.ssdf.assign(S * n2, 0.0f);
+  d.segmentData.resize(S);
+  for (size_t k = 0; k < S; ++k) {
+    if (!m.ssdf[k].empty()) std::copy(m.ssdf[k].begin(), m.ssdf[k].end(), d.ssdf.begin() + long(k * n2));
+    d.segmentData[k] = glm::vec4(m.angle[k], float(m.cells.cellOf[k]), 0.0f, 0.0f);
+  }
+  d.weights = m.sosg.weights;
+  d.transfer.assign(m.cells.count() * kIirtfMatrixSize, 0.0f);
+  for (size_t c = 0; c < m.cells.count(); ++c)
+    for (size_t j = 0; j < m.transfer[c].size(); ++j) d.transfer[c * kIirtfMatrixSize + j] = float(m.transfer[c][j]);
+  return d;
+}
+
 VolParams PrtFrameScene::rays(const PrtFrameView& view) const {
   checkPrtFrameView(view);
   const Impl& m = *impl_;
@@ -215,20 +239,12 @@ PrtFrameParts PrtFrameScene::renderPrt(const PrtFrameView& view) {
     if (gbuffer[i].id == 0) continue;
     const uint32_t k = gbuffer[i].id - 1;
     const ExemplarSegment& g = m.block.segments[k];
-    const glm::vec3 wo = ftPrtFrameOutgoing(ftVolRayDirection(rp, uint32_t(i % size_t(W)), uint32_t(i / size_t(W))));
-    const glm::vec3 t = ftPrtFrameTangent(g.a, g.b);
-    PrtSsRequest q{};
-    q.tangent = vec4(t, 0.0f);
-    q.outgoing = vec4(wo, 1.0f);  // V_glo = 1: no macro occluder over the flat fabric
-    q.light = vec4(view.light, view.lambda);
-    q.segment = vec4(m.ssdf[k][size_t(ftPrtFrameSvfPixel(view.light, n, n))], m.angle[k], float(k), 0.0f);
-    requests.push_back(q);
-    PrtMsQuery mq{};
-    mq.wo = vec4(wo, 0.0f);
-    mq.tangent = vec4(t, 0.0f);
-    mq.light = vec4(view.light, view.lambda);
-    mq.cell = uvec4(m.cells.cellOf[k], 0u, 0u, 0u);
-    queries.push_back(mq);
+    const PrtFramePixel px = ftPrtFrameRequests(
+        k, ftVolRayDirection(rp, uint32_t(i % size_t(W)), uint32_t(i / size_t(W))), g.a, g.b,
+        m.ssdf[k][size_t(ftPrtFrameSvfPixel(view.light, n, n))], m.angle[k], m.cells.cellOf[k],
+        vec4(view.light, view.lambda));
+    requests.push_back(PrtSsRequest{px.ssTangent, px.ssOutgoing, px.ssLight, px.ssSegment});
+    queries.push_back(PrtMsQuery{px.msWo, px.msTangent, px.msLight, px.msCell});
     pixels.push_back(i);
   }
   const std::vector<glm::dvec3> single =
@@ -250,6 +266,8 @@ PrtFrameParts PrtFrameScene::renderPrt(const PrtFrameView& view) {
     out.multi.rgb[pixels[j]] = ms;
   }
   out.total.seconds = out.single.seconds = out.multi.seconds = secondsSince(t0);
+  out.ids.resize(N);
+  for (size_t i = 0; i < N; ++i) out.ids[i] = gbuffer[i].id;
   return out;
 }
 

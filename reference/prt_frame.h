@@ -71,6 +71,23 @@ struct PrtFrameImage {
 };
 struct PrtFrameParts {
   PrtFrameImage total, single, multi;
+  std::vector<uint32_t> ids;  // the G-buffer: 1 + block segment, 0 = miss
+};
+
+// What the GPU twin needs of a scene (gpu/prt_frame_gpu.h): the volume's
+// layout, segment table and candidates, the baked per-segment data (zeros for
+// segments not baked yet) and the IIRTF matrices (zeros for cells not baked).
+struct PrtFrameData {
+  FabricParams fabric{};
+  VolParams layout{};
+  std::vector<VolSegment> segments;
+  VolumeCandidates candidates;
+  int svfSize = 0, axes = 0;
+  float lambdaSvf = 0.0f;
+  std::vector<float> ssdf;              // [segment][n²]
+  std::vector<glm::vec4> segmentData;   // per segment: (R_k angle, IIRTF cell, 0, 0)
+  std::vector<float> weights;           // [segment][Q]
+  std::vector<float> transfer;          // [cell][kIirtfMatrixSize]
 };
 
 class PrtFrameScene {
@@ -89,6 +106,7 @@ class PrtFrameScene {
   PrtFrameParts renderPrt(const PrtFrameView& view);
   // Path tracing: maxDepth 1 gives single scattering alone (next-event estimation at the first hit).
   PrtFrameImage renderPathTraced(const PrtFrameView& view, int samples, int maxDepth) const;
+  PrtFrameData gpuData() const;
   double bakeSeconds() const;  // all lazy bakes so far (and ℓ, the tables, the volume)
   double meanFreePath() const;
   size_t cellCount() const;
