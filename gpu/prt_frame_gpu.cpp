@@ -70,4 +70,28 @@ std::vector<PrtFramePixel> PrtFrameGpu::compose(std::span<const PrtFramePixel> p
   return readBuffer<PrtFramePixel>(io.id(), pixels.size());
 }
 
+std::vector<PrtFramePixel> PrtFrameGpu::render(const PrtFrameGpuInputs& in, std::span<const VolHit> gbuffer,
+                                               PrtSingleScatteringGpu& single, PrtMultipleScatteringGpu& multi) {
+  if (in.msTables == nullptr) throw std::invalid_argument("PrtFrameGpu::render: no C_S / C_G tables");
+  std::vector<PrtFramePixel> px = requests(in.rays, gbuffer, in.segments, in.ssdf, in.svfSize, in.segmentData, in.light);
+  std::vector<size_t> covered;
+  std::vector<PrtSsRequest> ss;
+  std::vector<PrtMsQuery> ms;
+  for (size_t i = 0; i < px.size(); ++i)
+    if (px[i].total.w > 0.5f) {
+      covered.push_back(i);
+      ss.push_back(PrtSsRequest{px[i].ssTangent, px[i].ssOutgoing, px[i].ssLight, px[i].ssSegment});
+      ms.push_back(PrtMsQuery{px[i].msWo, px[i].msTangent, px[i].msLight, px[i].msCell});
+    }
+  const std::vector<glm::vec4> ls =
+      single.evaluate(std::span<const FabricParams>(&in.fabric, 1), in.ssTable, ss, in.weights, in.axes, in.lambdaSvf);
+  const PrtMsGpuTables& t = *in.msTables;
+  const std::vector<glm::vec3> lm = multi.evaluate(ms, in.transfer, in.bands, t.cs, t.thetaO, t.cg, t.lambdaNodes);
+  for (size_t j = 0; j < covered.size(); ++j) {
+    px[covered[j]].single = ls[j];
+    px[covered[j]].multi = glm::vec4(lm[j], 0.0f);
+  }
+  return compose(px);
+}
+
 }  // namespace ft

@@ -17,8 +17,28 @@
 #include "common/prt_frame.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_objects.h"
+#include "gpu/prt_multiple_scattering_gpu.h"
+#include "gpu/prt_single_scattering_gpu.h"
 
 namespace ft {
+
+// Everything a frame reads besides the G-buffer (spans must outlive the call).
+struct PrtFrameGpuInputs {
+  VolParams rays{};                       // the G-buffer's camera
+  std::span<const VolSegment> segments;   // the block's
+  std::span<const float> ssdf;            // [segment][n²]
+  int svfSize = 0;
+  std::span<const glm::vec4> segmentData; // (R_k angle, cell, 0, 0)
+  std::span<const float> weights;         // [segment][axes]
+  int axes = 0;
+  float lambdaSvf = 0.0f;
+  FabricParams fabric{};
+  std::span<const float> ssTable;         // PrtSingleScatteringGpu::bakeTable
+  std::span<const float> transfer;        // [cell][3 · 36 · 36]
+  int bands = 0;
+  const PrtMsGpuTables* msTables = nullptr;  // PrtMultipleScatteringGpu::tables
+  glm::vec4 light{0.0f};                  // xyz, λ
+};
 
 class PrtFrameGpu {
  public:
@@ -33,6 +53,9 @@ class PrtFrameGpu {
                                       std::span<const glm::vec4> segmentData, glm::vec4 light);
   // Mode 1: total = the composition of each record's single and multi.
   std::vector<PrtFramePixel> compose(std::span<const PrtFramePixel> pixels);
+  // The frame: requests, the evaluators on the covered pixels, the composition.
+  std::vector<PrtFramePixel> render(const PrtFrameGpuInputs& in, std::span<const VolHit> gbuffer,
+                                    PrtSingleScatteringGpu& single, PrtMultipleScatteringGpu& multi);
 
  private:
   int maxGroupsY_ = 65535;

@@ -199,26 +199,22 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
     const auto g0 = Clock::now();
     if (!built) vol.build(d.layout, d.segments, d.candidates.start, d.candidates.entries), built = true;
     const std::vector<VolHit> gbuffer = vol.sample(rays);
-    std::vector<PrtFramePixel> px = ctx.gpu<PrtFrameGpu>().requests(rays, gbuffer, d.segments, d.ssdf, d.svfSize,
-                                                                     d.segmentData, glm::vec4(v.light, v.lambda));
-    std::vector<size_t> covered;
-    std::vector<PrtSsRequest> ss;
-    std::vector<PrtMsQuery> ms;
-    for (size_t i = 0; i < px.size(); ++i)
-      if (px[i].total.w > 0.5f) {
-        covered.push_back(i);
-        ss.push_back(PrtSsRequest{px[i].ssTangent, px[i].ssOutgoing, px[i].ssLight, px[i].ssSegment});
-        ms.push_back(PrtMsQuery{px[i].msWo, px[i].msTangent, px[i].msLight, px[i].msCell});
-      }
-    const std::vector<glm::vec4> single =
-        ssGpu.evaluate(std::span<const FabricParams>(&d.fabric, 1), table, ss, d.weights, d.axes, d.lambdaSvf);
-    const std::vector<glm::vec3> multi =
-        msGpu.evaluate(ms, d.transfer, settings.bands, tables.cs, tables.thetaO, tables.cg, tables.lambdaNodes);
-    for (size_t j = 0; j < covered.size(); ++j) {
-      px[covered[j]].single = single[j];
-      px[covered[j]].multi = glm::vec4(multi[j], 0.0f);
-    }
-    px = ctx.gpu<PrtFrameGpu>().compose(px);
+    PrtFrameGpuInputs in;
+    in.rays = rays;
+    in.segments = d.segments;
+    in.ssdf = d.ssdf;
+    in.svfSize = d.svfSize;
+    in.segmentData = d.segmentData;
+    in.weights = d.weights;
+    in.axes = d.axes;
+    in.lambdaSvf = d.lambdaSvf;
+    in.fabric = d.fabric;
+    in.ssTable = table;
+    in.transfer = d.transfer;
+    in.bands = settings.bands;
+    in.msTables = &tables;
+    in.light = glm::vec4(v.light, v.lambda);
+    const std::vector<PrtFramePixel> px = ctx.gpu<PrtFrameGpu>().render(in, gbuffer, ssGpu, msGpu);
     gpuMs += msSince(g0);
     // Per pixel with the same id on both sides: |GPU − CPU| relative to the CPU frame's brightest
     // pixel (float tables and arithmetic against double; relative to each pixel would let
