@@ -55,21 +55,8 @@ void BM_PrtFrameGpu(benchmark::State& state) {
   const std::vector<float> table = ss.bakeTable(std::span<const ft::FabricParams>(&d.fabric, 1));
   const ft::PrtMsGpuTables tables = ms.tables(d.fabric, s.msThetaINodes, s.msPhiNodes);
   vol.build(d.layout, d.segments, d.candidates.start, d.candidates.entries);
-  ft::PrtFrameGpuInputs in;
-  in.rays = g_scene->rays(g_view);
-  in.segments = d.segments;
-  in.ssdf = d.ssdf;
-  in.svfSize = d.svfSize;
-  in.segmentData = d.segmentData;
-  in.weights = d.weights;
-  in.axes = d.axes;
-  in.lambdaSvf = d.lambdaSvf;
-  in.fabric = d.fabric;
-  in.ssTable = table;
-  in.transfer = d.transfer;
-  in.bands = s.bands;
-  in.msTables = &tables;
-  in.light = glm::vec4(g_view.light, g_view.lambda);
+  const ft::PrtFrameGpuInputs in = ft::prtFrameGpuInputs(d, g_scene->rays(g_view), table, tables, s.bands,
+                                                          glm::vec4(g_view.light, g_view.lambda));
   for (auto _ : state) {
     const std::vector<ft::VolHit> gbuffer = vol.sample(in.rays);
     benchmark::DoNotOptimize(frame.render(in, gbuffer, ss, ms));

@@ -40,6 +40,28 @@ struct PrtFrameGpuInputs {
   glm::vec4 light{0.0f};                  // xyz, λ
 };
 
+// The inputs from a scene's data (reference/prt_frame.h PrtFrameData: gpu/ does not include reference/).
+template <class Data>
+PrtFrameGpuInputs prtFrameGpuInputs(const Data& d, const VolParams& rays, std::span<const float> ssTable,
+                                    const PrtMsGpuTables& msTables, int bands, glm::vec4 light) {
+  PrtFrameGpuInputs in;
+  in.rays = rays;
+  in.segments = d.segments;
+  in.ssdf = d.ssdf;
+  in.svfSize = d.svfSize;
+  in.segmentData = d.segmentData;
+  in.weights = d.weights;
+  in.axes = d.axes;
+  in.lambdaSvf = d.lambdaSvf;
+  in.fabric = d.fabric;
+  in.ssTable = ssTable;
+  in.transfer = d.transfer;
+  in.bands = bands;
+  in.msTables = &msTables;
+  in.light = light;
+  return in;
+}
+
 class PrtFrameGpu {
  public:
   // defines: extra preprocessor symbols (fault injection, validation/faults.h).

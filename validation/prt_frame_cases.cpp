@@ -199,21 +199,7 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
     const auto g0 = Clock::now();
     if (!built) vol.build(d.layout, d.segments, d.candidates.start, d.candidates.entries), built = true;
     const std::vector<VolHit> gbuffer = vol.sample(rays);
-    PrtFrameGpuInputs in;
-    in.rays = rays;
-    in.segments = d.segments;
-    in.ssdf = d.ssdf;
-    in.svfSize = d.svfSize;
-    in.segmentData = d.segmentData;
-    in.weights = d.weights;
-    in.axes = d.axes;
-    in.lambdaSvf = d.lambdaSvf;
-    in.fabric = d.fabric;
-    in.ssTable = table;
-    in.transfer = d.transfer;
-    in.bands = settings.bands;
-    in.msTables = &tables;
-    in.light = glm::vec4(v.light, v.lambda);
+    const PrtFrameGpuInputs in = prtFrameGpuInputs(d, rays, table, tables, settings.bands, glm::vec4(v.light, v.lambda));
     const std::vector<PrtFramePixel> px = ctx.gpu<PrtFrameGpu>().render(in, gbuffer, ssGpu, msGpu);
     gpuMs += msSince(g0);
     // Per pixel with the same id on both sides: |GPU − CPU| relative to the CPU frame's brightest
