@@ -31,6 +31,7 @@
 #include "validation/faults.h"
 #include "validation/harness.h"
 #include "cli/knit_command.h"
+#include "cli/prt_frame_command.h"
 #include "cli/render_command.h"
 #include "validation/report.h"
 
@@ -454,6 +455,8 @@ int main(int argc, char** argv) {
   CLI::App* compare = ft::addCompareCommand(app, compareOptions);
   ft::BakeCommandOptions bakeOptions;
   CLI::App* bake = ft::addBakeCommand(app, bakeOptions);
+  ft::PrtFrameCommandOptions prtFrameOptions;
+  CLI::App* prtFrame = ft::addPrtFrameCommand(app, prtFrameOptions);
 
   try {
     app.parse(argc, argv);
@@ -465,6 +468,7 @@ int main(int argc, char** argv) {
   try {
     if (compare->parsed()) return ft::runCompareCommand(compareOptions, std::cout);
     if (bake->parsed()) return ft::runBakeCommand(bakeOptions, std::cout);
+    if (prtFrame->parsed()) return ft::runPrtFrameCommand(prtFrameOptions, std::cout);
     if (validate->parsed()) {
       if (!modelPath.empty()) vo.model = modelPath;
       for (int i = 0; i < argc; ++i) vo.commandLine += (i ? " " : "") + shellQuote(argv[i]);

@@ -172,6 +172,9 @@
 #define FT_SSBO_PRT_VOL_IDS 64       // the segment-id volume
 #define FT_SSBO_PRT_VOL_SEGMENTS 69  // the segment table (direction, midpoint, cell)
 // SSBO 73 is taken by deferred shading (FT_SSBO_DEFERRED_LIST): no slot below 80 is free.
+#define FT_SSBO_PRT_FRAME 35         // the PRT frame's per-pixel records (common/prt_frame.h PrtFramePixel)
+#define FT_UBO_PRT_FRAME 23          // PrtFrameParams (common/prt_frame.h)
+#define FT_WG_PRT_FRAME 64           // its compute program: pixels per work group
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u

@@ -358,6 +358,13 @@ else
   failures+="  bake --list (output)\n"
 fi
 
+# ---- fibertwin prt-frame (docs/prt-frame.md): rejected before anything is baked ----
+run_case "prt-frame --view 0,0,-1" 2 "view direction" "above the fabric" -- prt-frame --view 0,0,-1 --out "$TMP/prt"
+run_case "prt-frame --light 1,2" 2 "--light" "'1,2'" -- prt-frame --light 1,2 --out "$TMP/prt"
+run_case "prt-frame --lambda -3" 2 "lambda -3" -- prt-frame --lambda -3 --out "$TMP/prt"
+run_case "prt-frame --svf-size 7" 2 "--svf-size" "7" -- prt-frame --svf-size 7 --out "$TMP/prt"
+expect_absent "prt-frame: rejected input (no image)" "$TMP/prt_prt.exr"
+
 echo "$passed passed, $failed failed ($xfailed known gaps)"
 if [ "$failed" -ne 0 ]; then
   printf "failed:\n%b" "$failures"

@@ -16,6 +16,7 @@
 #include "common/lod.h"
 #include "common/pcss.h"
 #include "common/prt_multiple_scattering.h"
+#include "common/prt_frame.h"
 #include "common/prt_single_scattering.h"
 #include "common/segment_visibility.h"
 #include "common/sh.h"

@@ -1,0 +1,87 @@
+// prt_frame_gpu.h — the GPU twin of the PRT frame's per-pixel composition of
+// 004 §5 (common/prt_frame.h, prt_frame.comp.glsl; docs/prt-frame.md): from
+// the exemplar volume's GPU G-buffer, the per-pixel requests (mode 0), then —
+// after the single- and multiple-scattering evaluators of
+// gpu/prt_single_scattering_gpu.h and gpu/prt_multiple_scattering_gpu.h have
+// filled `single` and `multi` — the composition (mode 1). Every call uploads,
+// dispatches and reads back.
+#pragma once
+#include <epoxy/gl.h>
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/constants.h"
+#include "common/exemplar_volume.h"
+#include "common/prt_frame.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_objects.h"
+#include "gpu/prt_multiple_scattering_gpu.h"
+#include "gpu/prt_single_scattering_gpu.h"
+
+namespace ft {
+
+// Everything a frame reads besides the G-buffer (spans must outlive the call).
+struct PrtFrameGpuInputs {
+  VolParams rays{};                       // the G-buffer's camera
+  std::span<const VolSegment> segments;   // the block's
+  std::span<const float> ssdf;            // [segment][n²]
+  int svfSize = 0;
+  std::span<const glm::vec4> segmentData; // (R_k angle, cell, 0, 0)
+  std::span<const float> weights;         // [segment][axes]
+  int axes = 0;
+  float lambdaSvf = 0.0f;
+  FabricParams fabric{};
+  std::span<const float> ssTable;         // PrtSingleScatteringGpu::bakeTable
+  std::span<const float> transfer;        // [cell][3 · 36 · 36]
+  int bands = 0;
+  const PrtMsGpuTables* msTables = nullptr;  // PrtMultipleScatteringGpu::tables
+  glm::vec4 light{0.0f};                  // xyz, λ
+};
+
+// The inputs from a scene's data (reference/prt_frame.h PrtFrameData: gpu/ does not include reference/).
+template <class Data>
+PrtFrameGpuInputs prtFrameGpuInputs(const Data& d, const VolParams& rays, std::span<const float> ssTable,
+                                    const PrtMsGpuTables& msTables, int bands, glm::vec4 light) {
+  PrtFrameGpuInputs in;
+  in.rays = rays;
+  in.segments = d.segments;
+  in.ssdf = d.ssdf;
+  in.svfSize = d.svfSize;
+  in.segmentData = d.segmentData;
+  in.weights = d.weights;
+  in.axes = d.axes;
+  in.lambdaSvf = d.lambdaSvf;
+  in.fabric = d.fabric;
+  in.ssTable = ssTable;
+  in.transfer = d.transfer;
+  in.bands = bands;
+  in.msTables = &msTables;
+  in.light = light;
+  return in;
+}
+
+class PrtFrameGpu {
+ public:
+  // defines: extra preprocessor symbols (fault injection, validation/faults.h).
+  // std::runtime_error when the driver lacks FT_UBO_PRT_FRAME or FT_SSBO_PRT_FRAME bindings.
+  explicit PrtFrameGpu(const GlInfo& gl, const std::vector<std::string>& defines = {});
+  // Mode 0: one record per G-buffer texel (rays: the VolParams of the G-buffer's camera);
+  // ssdf = [segment][n²], segmentData = per segment (R_k angle, cell, 0, 0).
+  // std::invalid_argument for inconsistent sizes.
+  std::vector<PrtFramePixel> requests(const VolParams& rays, std::span<const VolHit> gbuffer,
+                                      std::span<const VolSegment> segments, std::span<const float> ssdf, int svfSize,
+                                      std::span<const glm::vec4> segmentData, glm::vec4 light);
+  // Mode 1: total = the composition of each record's single and multi.
+  std::vector<PrtFramePixel> compose(std::span<const PrtFramePixel> pixels);
+  // The frame: requests, the evaluators on the covered pixels, the composition.
+  std::vector<PrtFramePixel> render(const PrtFrameGpuInputs& in, std::span<const VolHit> gbuffer,
+                                    PrtSingleScatteringGpu& single, PrtMultipleScatteringGpu& multi);
+
+ private:
+  int maxGroupsY_ = 65535;
+  Program program_;
+};
+
+}  // namespace ft
