@@ -87,6 +87,51 @@ TEST(DsCorrection, FactoredTexturesReproduceSeparableSums) {
   EXPECT_FLOAT_EQ(t.coverage[3], 6.0f / 16.0f);
 }
 
+// ξ is one factor for the three channels, fitted to their sum
+// (docs/ds-correction.md "Why ξ is grey"); the colour is the prediction's
+// Ψ_c ḡ_c. Data whose correction is grey and separable, with coloured Ψ and
+// ḡ: every channel is reproduced through the lookup, and ξ's rgb are equal.
+TEST(DsCorrection, GreyXiKeepsThePredictionsColour) {
+  DsCorrectionLayout l{};
+  l.size = glm::uvec4(5, 2, 4, 4);
+  l.yarn = glm::vec4(0.45f, 0.07f, 0.0f, 0.0f);
+  const size_t texels = 10;
+  std::vector<DsDirectionSums> dirs;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      DsDirectionSums s{std::vector<glm::dvec3>(texels), std::vector<glm::dvec3>(texels), std::vector<glm::dvec3>(texels),
+                        std::vector<double>(texels, 0.0)};
+      for (size_t t = 0; t < texels; ++t) {
+        const double hits = 4.0;
+        const glm::dvec3 psi = glm::dvec3(0.3 + 0.15 * a, 0.2 + 0.1 * a, 0.5) * (1.0 - 0.2 * b) * (0.6 + 0.03 * double(t));
+        const glm::dvec3 g(0.2 + 0.1 * a + 0.04 * double((b * 3 + int(t)) % 4), 0.05 + 0.02 * b, 0.7 - 0.1 * a);
+        const double k = (0.5 + a) * (3.0 - 0.5 * b) * (1.0 + 0.05 * double(t));
+        s.hits[t] = hits;
+        s.shadowing[t] = psi * hits;
+        s.local[t] = g * hits;
+        s.reference[t] = k * psi * g * hits;
+      }
+      dirs.push_back(s);
+    }
+  const DsCorrectionTextures t = factorDsCorrection(l, dirs, 16.0);
+  for (const std::vector<glm::vec4>* xi : {&t.xiM, &t.xiN})
+    for (const glm::vec4& x : *xi) {
+      EXPECT_EQ(x.x, x.y);
+      EXPECT_EQ(x.x, x.z);
+    }
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+      for (size_t k = 0; k < texels; ++k) {
+        const glm::vec2 uv((float(k % 5) + 0.5f) / 5.0f, (float(k / 5) + 0.5f) / 2.0f);
+        const glm::vec3 corr = evaluateDsCorrectionCpu(t, uv, glm::vec2(ftXiThetaSample(a, 4), ftXiPhiSample(b, 4)));
+        const DsDirectionSums& s = dirs[size_t(a * 4 + b)];
+        for (int c = 0; c < 3; ++c) {
+          const double want = s.reference[k][c] / s.hits[k], got = double(corr[c]) * s.local[k][c] / s.hits[k];
+          EXPECT_NEAR(got / want, 1.0, 1e-4) << "direction " << a << "," << b << " texel " << k << " channel " << c;
+        }
+      }
+}
+
 TEST(DsCorrection, BakeLightConventionMatchesTheRuntimeAngles) {
   const glm::vec3 t(1.0f, 0.0f, 0.0f), wo(0.0f, 0.0f, 1.0f);
   for (int a = 0; a < 8; ++a)
