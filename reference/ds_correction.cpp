@@ -243,7 +243,7 @@ namespace {
 constexpr double kDarkEpsilon = 1e-7;
 constexpr int kFitIterations = 64;
 
-double luminanceSum(glm::dvec3 v) { return v.x + v.y + v.z; }
+double channelSum(glm::dvec3 v) { return v.x + v.y + v.z; }
 
 // Σ_c w_c (ftXiEncode(ξ corner c) + ftXiEncode(Ψ corner c)), as the GPU sums
 // its log-encoded buffers: per corner first (the two cancel).
@@ -285,7 +285,7 @@ DsCorrectionTextures factorDsCorrection(const DsCorrectionLayout& l, std::span<c
   for (size_t d = 0; d < directions.size(); ++d) {
     double sum = 0.0, hits = 0.0;
     for (size_t texel = 0; texel < texels; ++texel) {
-      sum += luminanceSum(directions[d].reference[texel]);
+      sum += channelSum(directions[d].reference[texel]);
       hits += directions[d].hits[texel];
     }
     const double mean = hits > 0.0 ? sum / hits : 0.0;
@@ -307,14 +307,16 @@ DsCorrectionTextures factorDsCorrection(const DsCorrectionLayout& l, std::span<c
     // least squares; the colour is the dual-scattering prediction's. Fitted per
     // channel, ξ_c ≈ L_c / ḡ_c where ḡ is far in the tails of the BCSDF's
     // Gaussians, whose widths differ per channel: ratios of 1e3 between
-    // channels, which the frame showed as coloured fireflies.
+    // channels, which the frame showed as coloured fireflies. A log fit of
+    // L_*/(Ψ̄ ḡ) would weigh every direction alike, and where ḡ is small (off
+    // the lobes) its ratios run into the thousands.
     for (size_t d = 0; d < directions.size(); ++d) {
       const int a = int(d) / np, b = int(d) % np;
       double predicted = 0.0;
       for (int c = 0; c < 3; ++c)
         predicted += fp[c][size_t(a)] * fp[c][size_t(nt + b)] * directions[d].local[texel][c] / hits;
       local[d] = predicted;
-      reference[d] = luminanceSum(directions[d].reference[texel]) / hits;
+      reference[d] = channelSum(directions[d].reference[texel]) / hits;
     }
     const std::vector<double> fx = factorWeightedRankOne(reference, local, directionWeight, nt, np, kFitIterations);
     for (int c = 0; c < 3; ++c) {
