@@ -243,6 +243,8 @@ namespace {
 constexpr double kDarkEpsilon = 1e-7;
 constexpr int kFitIterations = 64;
 
+double channelSum(glm::dvec3 v) { return v.x + v.y + v.z; }
+
 // Σ_c w_c (ftXiEncode(ξ corner c) + ftXiEncode(Ψ corner c)), as the GPU sums
 // its log-encoded buffers: per corner first (the two cancel).
 glm::vec3 fetchLog(const std::vector<glm::vec4>& xi, const std::vector<glm::vec4>& psi, const DsCorrectionLayout& l,
@@ -277,49 +279,50 @@ DsCorrectionTextures factorDsCorrection(const DsCorrectionLayout& l, std::span<c
   out.coverage.assign(texels, 0.0f);
   std::vector<double> psi(size_t(nt) * np), local(size_t(nt) * np), reference(size_t(nt) * np);
   // Each direction's squared residuals count relative to its mean radiance
-  // (per channel): a light at grazing angles lights the yarn ten times less,
-  // and unweighted it would barely move the fit.
-  std::vector<double> directionWeight[3];
-  for (int c = 0; c < 3; ++c) {
-    directionWeight[c].assign(directions.size(), 0.0);
-    for (size_t d = 0; d < directions.size(); ++d) {
-      double sum = 0.0, hits = 0.0;
-      for (size_t texel = 0; texel < texels; ++texel) {
-        sum += directions[d].reference[texel][c];
-        hits += directions[d].hits[texel];
-      }
-      const double mean = hits > 0.0 ? sum / hits : 0.0;
-      directionWeight[c][d] = mean > 0.0 ? 1.0 / (mean * mean) : 0.0;
+  // (of the channel sum, as ξ is fitted to it): a light at grazing angles
+  // lights the yarn ten times less, and unweighted it would barely move the fit.
+  std::vector<double> directionWeight(directions.size(), 0.0);
+  for (size_t d = 0; d < directions.size(); ++d) {
+    double sum = 0.0, hits = 0.0;
+    for (size_t texel = 0; texel < texels; ++texel) {
+      sum += channelSum(directions[d].reference[texel]);
+      hits += directions[d].hits[texel];
     }
+    const double mean = hits > 0.0 ? sum / hits : 0.0;
+    directionWeight[d] = mean > 0.0 ? 1.0 / (mean * mean) : 0.0;
   }
   for (size_t texel = 0; texel < texels; ++texel) {
     const double hits = directions[0].hits[texel];  // the same for every light: the camera's
     if (hits == 0.0) continue;
+    // Ψ̄ per channel in the log domain (eq. 10's factorisation; exact for separable data).
+    std::vector<double> fp[3];
     for (int c = 0; c < 3; ++c) {
-      for (size_t d = 0; d < directions.size(); ++d) {
-        const DsDirectionSums& s = directions[d];
-        psi[d] = std::max(s.shadowing[texel][c] / hits, kDarkEpsilon);
-        local[d] = s.local[texel][c] / hits;
-        reference[d] = s.reference[texel][c] / hits;
-      }
-      // Ψ̄ in the log domain (eq. 10's factorisation; exact for separable data).
-      const std::vector<double> fp = factorLogRankOne(psi, nt, np);
-      // ξ so that ξ_M ξ_N Ψ_M Ψ_N ḡ fits L_* in least squares: the product
-      // K = k_M(a) k_N(b) minimises Σ (L_* − K ḡ)², and ξ = K / Ψ's factors.
-      // A log fit of L_*/(Ψ̄ ḡ) instead weighs every direction alike, and
-      // where ḡ is small (off the lobes) its ratios are noise in the thousands.
-      const std::vector<double> fk = factorWeightedRankOne(reference, local, directionWeight[c], nt, np, kFitIterations);
-      std::vector<double> fx(size_t(nt + np));
-      for (int a = 0; a < nt; ++a) fx[size_t(a)] = fk[size_t(a)] / fp[size_t(a)];
-      for (int b = 0; b < np; ++b) fx[size_t(nt + b)] = fk[size_t(nt + b)] / fp[size_t(nt + b)];
-      for (int a = 0; a < nt; ++a) {
-        out.xiM[size_t(a) * texels + texel][c] = float(fx[size_t(a)]);
-        out.psiM[size_t(a) * texels + texel][c] = float(fp[size_t(a)]);
-      }
-      for (int b = 0; b < np; ++b) {
-        out.xiN[size_t(b) * texels + texel][c] = float(fx[size_t(nt + b)]);
-        out.psiN[size_t(b) * texels + texel][c] = float(fp[size_t(nt + b)]);
-      }
+      for (size_t d = 0; d < directions.size(); ++d) psi[d] = std::max(directions[d].shadowing[texel][c] / hits, kDarkEpsilon);
+      fp[c] = factorLogRankOne(psi, nt, np);
+      for (int a = 0; a < nt; ++a) out.psiM[size_t(a) * texels + texel][c] = float(fp[c][size_t(a)]);
+      for (int b = 0; b < np; ++b) out.psiN[size_t(b) * texels + texel][c] = float(fp[c][size_t(nt + b)]);
+    }
+    // ξ, one factor for the three channels (docs/ds-correction.md "Why ξ is
+    // grey"): ξ_M ξ_N so that ξ_M ξ_N Σ_c Ψ_M,c Ψ_N,c ḡ_c fits Σ_c L̄_*,c in
+    // least squares; the colour is the dual-scattering prediction's. Fitted per
+    // channel, ξ_c ≈ L_c / ḡ_c where ḡ is far in the tails of the BCSDF's
+    // Gaussians, whose widths differ per channel: ratios of 1e3 between
+    // channels, which the frame showed as coloured fireflies. A log fit of
+    // L_*/(Ψ̄ ḡ) would weigh every direction alike, and where ḡ is small (off
+    // the lobes) its ratios run into the thousands.
+    for (size_t d = 0; d < directions.size(); ++d) {
+      const int a = int(d) / np, b = int(d) % np;
+      double predicted = 0.0;
+      for (int c = 0; c < 3; ++c)
+        predicted += fp[c][size_t(a)] * fp[c][size_t(nt + b)] * directions[d].local[texel][c] / hits;
+      local[d] = predicted;
+      reference[d] = channelSum(directions[d].reference[texel]) / hits;
+    }
+    const std::vector<double> fx = factorWeightedRankOne(reference, local, directionWeight, nt, np, kFitIterations);
+    for (int c = 0; c < 3; ++c) {
+      const double tint = ftFaultXiBakeNotGrey && c == 2 ? 2.0 : 1.0;  // planted: blue's ξ_M doubled
+      for (int a = 0; a < nt; ++a) out.xiM[size_t(a) * texels + texel][c] = float(fx[size_t(a)] * tint);
+      for (int b = 0; b < np; ++b) out.xiN[size_t(b) * texels + texel][c] = float(fx[size_t(nt + b)]);
     }
   }
   // The figures per direction, through the runtime's lookup at texel centres.
@@ -336,15 +339,19 @@ DsCorrectionTextures factorDsCorrection(const DsCorrectionLayout& l, std::span<c
       if (hits == 0.0) continue;
       const glm::vec2 uv((float(texel % nu) + 0.5f) / nu, (float(texel / nu) + 0.5f) / nv);
       const glm::vec3 corr = evaluateDsCorrectionCpu(out, uv, angles);
+      // Errors of the channel sum, the quantity ξ is fitted to (ξ is grey).
+      double l = 0.0, dsPrediction = 0.0, runtime = 0.0;
       for (int c = 0; c < 3; ++c) {
-        const double l = s.reference[texel][c], dsPrediction = s.shadowing[texel][c] * s.local[texel][c] / hits;
-        ref += l;
-        errU += std::abs(dsPrediction - l);
+        l += s.reference[texel][c];
+        dsPrediction += s.shadowing[texel][c] * s.local[texel][c] / hits;
         // ξ_M ξ_N Ψ_M Ψ_N ḡ: the Ψ̄ of the texel is replaced by its factored form, as at run time.
-        errC += std::abs(double(corr[c]) * s.local[texel][c] - l);
-        totalC += double(corr[c]) * s.local[texel][c];
-        predicted += dsPrediction;
+        runtime += double(corr[c]) * s.local[texel][c];
       }
+      ref += l;
+      errU += std::abs(dsPrediction - l);
+      errC += std::abs(runtime - l);
+      totalC += runtime;
+      predicted += dsPrediction;
     }
     out.meanXi[d] = predicted > 0.0 ? ref / predicted : 1.0;
     out.errorUncorrected[d] = ref > 0.0 ? errU / ref : 0.0;

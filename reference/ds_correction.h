@@ -39,6 +39,9 @@ namespace ft {
 // (φ → −φ), as a sign slip in ω_d would.
 inline bool ftFaultXiBakeLightMirrored = false;
 #define FT_FAULT_XI_BAKE_LIGHT_MIRRORED_ON ::ft::ftFaultXiBakeLightMirrored
+// The bake's ξ no longer grey: blue's ξ_M doubled (reference/ds_correction.cpp).
+inline bool ftFaultXiBakeNotGrey = false;
+#define FT_FAULT_XI_BAKE_NOT_GREY_ON ::ft::ftFaultXiBakeNotGrey
 
 struct DsCorrectionSettings {
   std::string yarn = "cotton1";   // preset (data/yarn-presets.tsv); its flyaways are left out

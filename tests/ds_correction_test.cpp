@@ -3,7 +3,8 @@
 // notes-rendering A7): the two rank-1 fits on separable data (C3), the whole
 // factorisation + lookup chain on synthetic separable sums (the runtime
 // reproduces them exactly), the bake's light convention tied to the runtime's
-// angles, and the file's round trip and refusals.
+// angles, the grey ξ keeping the prediction's colour, and the file's round
+// trip and refusals.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -54,29 +55,40 @@ TEST(DsCorrection, WeightedRankOneIsExactOnSeparableData) {
 // Sums whose L_* = k_M(a) k_N(b) c(texel) Ψ̄ ḡ with separable Ψ̄: the runtime's
 // ξ_M ξ_N Ψ_M Ψ_N ḡ, read through the shared lookup at the texel centres,
 // must give L_* back (the pixel → texel → lookup chain).
-TEST(DsCorrection, FactoredTexturesReproduceSeparableSums) {
-  DsCorrectionLayout l{};
-  l.size = glm::uvec4(6, 3, 4, 4);
-  l.yarn = glm::vec4(0.45f, 0.07f, 0.0f, 0.0f);
-  const size_t texels = 18;
+namespace {
+
+// Synthetic sums of a 4 × 4 direction grid over `texels` texels: fill(a, b, texel, sums).
+template <class Fill>
+std::vector<DsDirectionSums> syntheticDirections(size_t texels, Fill fill) {
   std::vector<DsDirectionSums> dirs;
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) {
       DsDirectionSums s{std::vector<glm::dvec3>(texels), std::vector<glm::dvec3>(texels), std::vector<glm::dvec3>(texels),
                         std::vector<double>(texels, 0.0)};
-      for (size_t t = 0; t < texels; ++t) {
-        if (t == 7) continue;  // one texel no sample hits
-        const double hits = 3.0 + double(t % 4);
-        const double psi = (0.2 + 0.2 * a) * (0.9 - 0.1 * b) * (0.5 + 0.02 * double(t));
-        const double g = 0.3 + 0.1 * a + 0.05 * double((b * 7 + int(t)) % 5);  // not separable
-        const double k = (1.0 + a) * (2.0 - 0.3 * b) * (1.0 + 0.1 * double(t));
-        s.hits[t] = hits;
-        s.shadowing[t] = glm::dvec3(psi * hits, 0.5 * psi * hits, psi * hits);
-        s.local[t] = glm::dvec3(g * hits);
-        s.reference[t] = glm::dvec3(k * psi * g * hits, 0.5 * k * psi * g * hits, 2.0 * k * psi * g * hits);
-      }
+      for (size_t t = 0; t < texels; ++t) fill(a, b, t, s);
       dirs.push_back(s);
     }
+  return dirs;
+}
+
+}  // namespace
+
+TEST(DsCorrection, FactoredTexturesReproduceSeparableSums) {
+  DsCorrectionLayout l{};
+  l.size = glm::uvec4(6, 3, 4, 4);
+  l.yarn = glm::vec4(0.45f, 0.07f, 0.0f, 0.0f);
+  const size_t texels = 18;
+  const std::vector<DsDirectionSums> dirs = syntheticDirections(texels, [](int a, int b, size_t t, DsDirectionSums& s) {
+    if (t == 7) return;  // one texel no sample hits
+    const double hits = 3.0 + double(t % 4);
+    const double psi = (0.2 + 0.2 * a) * (0.9 - 0.1 * b) * (0.5 + 0.02 * double(t));
+    const double g = 0.3 + 0.1 * a + 0.05 * double((b * 7 + int(t)) % 5);  // not separable
+    const double k = (1.0 + a) * (2.0 - 0.3 * b) * (1.0 + 0.1 * double(t));
+    s.hits[t] = hits;
+    s.shadowing[t] = glm::dvec3(psi * hits, 0.5 * psi * hits, psi * hits);
+    s.local[t] = glm::dvec3(g * hits);
+    s.reference[t] = glm::dvec3(k * psi * g * hits, 0.5 * k * psi * g * hits, 2.0 * k * psi * g * hits);
+  });
   const DsCorrectionTextures t = factorDsCorrection(l, dirs, 16.0);
   for (size_t d = 0; d < dirs.size(); ++d) {
     EXPECT_LT(t.errorCorrected[d], 1e-5) << "direction " << d;
@@ -85,6 +97,44 @@ TEST(DsCorrection, FactoredTexturesReproduceSeparableSums) {
   EXPECT_EQ(t.coverage[7], 0.0f);
   EXPECT_EQ(t.xiM[7], glm::vec4(1.0f, 1.0f, 1.0f, 0.0f));
   EXPECT_FLOAT_EQ(t.coverage[3], 6.0f / 16.0f);
+}
+
+// ξ is one factor for the three channels, fitted to their sum
+// (docs/ds-correction.md "Why ξ is grey"); the colour is the prediction's
+// Ψ_c ḡ_c. Data whose correction is grey and separable, with coloured Ψ and
+// ḡ: every channel is reproduced through the lookup, and ξ's rgb are equal.
+TEST(DsCorrection, GreyXiKeepsThePredictionsColour) {
+  DsCorrectionLayout l{};
+  l.size = glm::uvec4(5, 2, 4, 4);
+  l.yarn = glm::vec4(0.45f, 0.07f, 0.0f, 0.0f);
+  const size_t texels = 10;
+  const std::vector<DsDirectionSums> dirs = syntheticDirections(texels, [](int a, int b, size_t t, DsDirectionSums& s) {
+    const double hits = 4.0;
+    const glm::dvec3 psi = glm::dvec3(0.3 + 0.15 * a, 0.2 + 0.1 * a, 0.5) * (1.0 - 0.2 * b) * (0.6 + 0.03 * double(t));
+    const glm::dvec3 g(0.2 + 0.1 * a + 0.04 * double((b * 3 + int(t)) % 4), 0.05 + 0.02 * b, 0.7 - 0.1 * a);
+    const double k = (0.5 + a) * (3.0 - 0.5 * b) * (1.0 + 0.05 * double(t));
+    s.hits[t] = hits;
+    s.shadowing[t] = psi * hits;
+    s.local[t] = g * hits;
+    s.reference[t] = k * psi * g * hits;
+  });
+  const DsCorrectionTextures t = factorDsCorrection(l, dirs, 16.0);
+  for (const std::vector<glm::vec4>* xi : {&t.xiM, &t.xiN})
+    for (const glm::vec4& x : *xi) {
+      EXPECT_EQ(x.x, x.y);
+      EXPECT_EQ(x.x, x.z);
+    }
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+      for (size_t k = 0; k < texels; ++k) {
+        const glm::vec2 uv((float(k % 5) + 0.5f) / 5.0f, (float(k / 5) + 0.5f) / 2.0f);
+        const glm::vec3 corr = evaluateDsCorrectionCpu(t, uv, glm::vec2(ftXiThetaSample(a, 4), ftXiPhiSample(b, 4)));
+        const DsDirectionSums& s = dirs[size_t(a * 4 + b)];
+        for (int c = 0; c < 3; ++c) {
+          const double want = s.reference[k][c] / s.hits[k], got = double(corr[c]) * s.local[k][c] / s.hits[k];
+          EXPECT_NEAR(got / want, 1.0, 1e-4) << "direction " << a << "," << b << " texel " << k << " channel " << c;
+        }
+      }
 }
 
 TEST(DsCorrection, BakeLightConventionMatchesTheRuntimeAngles) {

@@ -64,6 +64,7 @@ constexpr double kLitEdgeTolerance = 0.5;
 constexpr double kFarEdgeTolerance = 0.3;
 // Ψ̄ is a mean of V + (1 − V) d_f ā_f^n ∈ [0, 1]; sums of ≤ 64 floats: 1e-6.
 constexpr double kPsiRangeTolerance = 1e-6;
+constexpr double kGreyTolerance = 1e-6;  // the bake stores one double as three equal floats: 0 exactly
 
 // The CI bake: N_v = 8 (N_u = 28 for cotton1), 4 × 4 directions, 2 × 2
 // pixels per texel at 16 spp (64 samples per texel), 3 periods.
@@ -172,6 +173,15 @@ CaseResult runBakeCase(ValidationContext& ctx, const YarnPreset& preset, const s
       litEdge = std::min(litEdge, rowPsi(s, fromBelow ? bottom : top));
       farEdge = std::max(farEdge, rowPsi(s, fromBelow ? top : bottom));
     }
+  // ξ is one factor for the three channels (docs/ds-correction.md "Why ξ is
+  // grey"): the stored rgb of every ξ texel must be equal.
+  double notGrey = 0.0;
+  for (const std::vector<glm::vec4>* xi : {&t.xiM, &t.xiN})
+    for (const glm::vec4& x : *xi) {
+      const double hi = std::max({x.x, x.y, x.z}), lo = std::min({x.x, x.y, x.z});
+      notGrey = std::max(notGrey, hi > 0.0 ? (hi - lo) / hi : 0.0);
+      if (std::isnan(x.x + x.y + x.z)) notGrey = std::nan("");
+    }
   uint64_t nonFinite = nonFiniteOf(t.xiM) + nonFiniteOf(t.xiN) + nonFiniteOf(t.psiM) + nonFiniteOf(t.psiN);
   for (const DsDirectionSums& s : b.sums) nonFinite += nonFiniteOf(s.reference) + nonFiniteOf(s.shadowing) + nonFiniteOf(s.local);
   r.metrics = {
@@ -183,6 +193,8 @@ CaseResult runBakeCase(ValidationContext& ctx, const YarnPreset& preset, const s
       Metric{"runtime.total_rel.mean", totalMean, 0.0, "relative",
              "|Σ runtime − Σ L_*| / Σ L_* over the covered texels (the image's total), mean over directions", false},
       Metric{"runtime.total_rel.max", total, 0.0, "relative", "the same, worst direction", false},
+      Metric{"xi.grey.max_rel", notGrey, kGreyTolerance, "relative",
+             "ξ_M, ξ_N equal in r, g, b: the bake fits one factor to the channel sum (exact: the same float is stored)"},
       Metric{"psi.range", psiViolation, kPsiRangeTolerance, "", "C6: Ψ̄ = mean of V + (1 − V) T_f(n) lies in [0, 1]"},
       Metric{"psi.lit_edge.shadowed", 1.0 - litEdge, kLitEdgeTolerance, "1 − Ψ̄",
              "C6: the silhouette row facing a side light is mostly unshadowed (measured Ψ̄ 0.74: the row is a "
