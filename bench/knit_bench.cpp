@@ -225,7 +225,10 @@ void BM_KnitShaded(benchmark::State& state, ft::FiberPath path, bool environment
   state.counters["generate_ms"] = t.generateMs;
   state.counters["occluder_pass_ms"] = t.depthMs;
   state.counters["shaded_pass_ms"] = t.shadeMs;
-  state.counters["occluded_fraction"] = renderer.occludedFraction();
+  // Culling is chosen per view (FiberRenderer::OcclusionCull::Auto): culled = 1
+  // when this view culled; occluded_fraction then describes its occluders.
+  state.counters["culled"] = renderer.cullsView(gpu) ? 1.0 : 0.0;
+  state.counters["occluded_fraction"] = renderer.cullsView(gpu) ? renderer.occludedFraction() : 0.0;
   state.counters["segments"] = double(buffers.segments.size());
   if (environment) state.counters["env_bake_ms"] = bakeMs;  // every input of the frame, the SRBF fit and table among them
   const ft::ImageRgbaF img = renderer.read();

@@ -15,9 +15,12 @@
 //                                         while the shadow map is on.
 //   BM_ShadedCompute/{frame,closeup}       the views of `render --distance frame`
 //                                         (the whole glove) and `--distance closeup`,
-//                                         with occlusion culling (the default);
-//                                         and deferred shading (the default);
-//   BM_ShadedComputeNoCull/{frame,closeup} the same without culling (same frame);
+//                                         as `render` draws them: occlusion culling
+//                                         chosen per view (FiberRenderer::OcclusionCull::Auto,
+//                                         the default) and deferred shading (the default);
+//                                         counter culled = the choice;
+//   BM_ShadedComputeCull/{frame,closeup}   the same, always culled;
+//   BM_ShadedComputeNoCull/{frame,closeup} the same, never culled (same frame);
 //   BM_ShadedComputeForward/{frame,closeup} culled, shaded in the fragment stage
 //                                         (render --forward; same frame);
 //   BM_Trace16/{frame,closeup}             the Embree ground truth of the same view
@@ -38,6 +41,8 @@
 //   BM_LobeShadowPass                      the 16 SRBF lobes' depth passes
 //                                         (FiberRenderer::drawLobeShadowMaps, every lobe
 //                                         with energy, 1024² each) and their copy.
+// Every named frame and trace: counter load1, the 1-minute load average when
+// it ended (the 2 cores are shared; compare runs under like loads).
 // Counters of the culled frames: the phases of one frame timed apart
 // (FrameTimings: shadow map, generation, occluder pass, shaded pass) and the
 // share of pixels an occluder covers.
@@ -55,6 +60,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <stdlib.h>  // getloadavg
 #include <iostream>
 #include <memory>
 #include <string>
@@ -143,9 +149,16 @@ void BM_Shaded(benchmark::State& state, ft::FiberPath path, const ft::ViewParams
 
 // A culled or unculled compute-path frame of a named view; culled frames also
 // report their phases (one more frame, each phase finished and timed).
-void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, bool cull, bool deferred) {
+double loadAverage() {
+  double l[1] = {-1.0};
+  return getloadavg(l, 1) == 1 ? l[0] : -1.0;
+}
+
+void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, ft::FiberRenderer::OcclusionCull mode,
+                   bool deferred) {
   g->gpu->setParams(g->fibers.params, *view);
-  g->renderer->setOcclusionCull(cull);
+  g->renderer->setOcclusionCull(mode);
+  const bool cull = g->renderer->cullsView(*g->gpu);
   g->renderer->setDeferred(deferred);
   g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);  // warm-up
   glFinish();
@@ -167,7 +180,9 @@ void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, bool cul
     }
     state.counters["occluded_fraction"] = g->renderer->occludedFraction();
   }
-  g->renderer->setOcclusionCull(true);
+  state.counters["culled"] = cull ? 1.0 : 0.0;
+  state.counters["load1"] = loadAverage();
+  g->renderer->setOcclusionCull(ft::FiberRenderer::OcclusionCull::Auto);
   g->renderer->setDeferred(true);
 }
 
@@ -190,6 +205,7 @@ void BM_Trace16(benchmark::State& state, const ft::Camera* camera) {
     benchmark::DoNotOptimize(r.image.pixels.data());
   }
   state.counters["segments"] = double(scene.segmentCount());
+  state.counters["load1"] = loadAverage();
   if (nonFinite > 0) state.SkipWithError(fmt::format("{} non-finite samples", nonFinite).c_str());
 }
 
@@ -304,6 +320,9 @@ int main(int argc, char** argv) {
     setup.appearance = appearance;
 
     benchmark::AddCustomContext("gl_renderer", gi.renderer);
+    benchmark::AddCustomContext("frame_renderer",
+                                "FiberRenderer: deferred shading, occlusion culling per view (Auto) unless the name says");
+    benchmark::AddCustomContext("load_average_at_start", fmt::format("{:.2f}", loadAverage()));
     benchmark::AddCustomContext("gpu_timing_method", setup.timer->method());
     benchmark::AddCustomContext("model", modelPath);
     benchmark::AddCustomContext("segments", std::to_string(setup.buffers.segments.size()));
@@ -342,10 +361,14 @@ int main(int argc, char** argv) {
     }
     for (size_t i = 0; i < setup.namedViews.size(); ++i) {
       const std::string& name = setup.namedViews[i].first;
-      for (int variant : {0, 1, 2})  // culled deferred, unculled deferred, culled forward
+      using Cull = ft::FiberRenderer::OcclusionCull;
+      // as render draws it, always culled, never culled (all deferred), culled forward
+      for (int variant : {0, 3, 1, 2})
         benchmark::RegisterBenchmark(
-            fmt::format("BM_ShadedCompute{}/{}", variant == 0 ? "" : variant == 1 ? "NoCull" : "Forward", name).c_str(),
-            BM_NamedFrame, &setup.namedViewParams[i], variant != 1, variant != 2)
+            fmt::format("BM_ShadedCompute{}/{}",
+                        variant == 0 ? "" : variant == 1 ? "NoCull" : variant == 2 ? "Forward" : "Cull", name).c_str(),
+            BM_NamedFrame, &setup.namedViewParams[i],
+            variant == 0 ? Cull::Auto : variant == 1 ? Cull::Off : Cull::On, variant != 2)
             ->Unit(benchmark::kMillisecond)
             ->UseManualTime();
       benchmark::RegisterBenchmark(fmt::format("BM_Trace16/{}", name).c_str(), BM_Trace16, &setup.namedViews[i].second)

@@ -134,7 +134,7 @@ int runKnitCommand(const KnitCommandOptions& o, std::ostream& log) {
       // frame's yarns (FiberRenderer::draw redraws it after setModel).
       const auto t0 = std::chrono::steady_clock::now();
       renderer->setShading(bakeFrameInputs(context->info(), {}, shading, fibers, o.appearance));
-      renderer->setOcclusionCull(o.occlusionCull);
+      renderer->setOcclusionCull(o.occlusionCull ? FiberRenderer::OcclusionCull::Auto : FiberRenderer::OcclusionCull::Off);
       log << fmt::format("shading inputs baked once for {} frame(s): {:.0f} ms\n", frames.size(), msSince(t0));
     }
   }

@@ -355,7 +355,13 @@ int main(int argc, char** argv) {
   render->add_option("--path", ro.path, "compute or tessellation")->capture_default_str();
   render->add_flag("--preview", ro.preview, "the harness thumbnails' preview style instead of the BCSDF (PNG only)");
   render->add_flag("!--no-occlusion-cull", ro.occlusionCull,
-                   "shade every fragment: without the occluder pass that skips hidden lines (the frame is the same)");
+                   "shade every fragment: without the occluder pass that skips hidden lines (the frame is the same; "
+                   "by default the pass runs unless the whole model is in view)");
+  render->add_option("--occlusion-cull", ro.occlusionCullMode,
+                     "auto: the occluder pass only when the model is not wholly in view (what it costs and saves "
+                     "depends on the view); on; off (the frame is the same)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   render->add_flag("!--forward", ro.deferred,
                    "shade every fragment in the fragment stage instead of deferred shading of the visible hits "
                    "(the frame is the same)");

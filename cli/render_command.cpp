@@ -181,7 +181,10 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
   }
   renderer.setShading(bakeFrameInputs(g, defines, v.shading, v.fibers, o.appearance));
   const double bakeSeconds = secondsSince(t0);
-  renderer.setOcclusionCull(o.occlusionCull);
+  using Cull = FiberRenderer::OcclusionCull;
+  renderer.setOcclusionCull(!o.occlusionCull || o.occlusionCullMode == "off" ? Cull::Off
+                            : o.occlusionCullMode == "on"                     ? Cull::On
+                                                                              : Cull::Auto);
   renderer.setDeferred(o.deferred);
   FrameTimings cold, warm;
   if (o.profile) renderer.draw(gpu, path, w, h, &cold);  // then the same frame again, everything built
@@ -193,6 +196,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                      v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * seconds, g.renderer);
   if (o.profile) {
     log << fmt::format("  bakes (shading inputs): {:.0f} ms\n", 1e3 * bakeSeconds);
+    log << fmt::format("  occlusion culling: {} ({})\n", renderer.cullsView(gpu) ? "on" : "off", o.occlusionCull ? o.occlusionCullMode : "off");
     for (const auto& [name, t] : {std::pair<const char*, const FrameTimings&>{"cold frame", cold}, {"warm frame", warm}})
       log << fmt::format(
           "  {}: {:.0f} ms = shadow map {:.0f} + generation {:.0f} + depth pass {:.0f} + {} {:.0f}{}\n", name,

@@ -44,7 +44,8 @@ struct RenderCommandOptions {
   bool preview = false;                        // the harness thumbnails' preview style (RGBA8 PNG)
   bool profile = false;
   bool deferred = true;                        // deferred shading (FiberRenderer::setDeferred); --forward: off
-  bool occlusionCull = true;                   // exact occlusion culling (common/occlusion_cull.h)                        // time the bakes and the frame's phases, cold and warm
+  bool occlusionCull = true;                   // false: --no-occlusion-cull (same as --occlusion-cull off)
+  std::string occlusionCullMode = "auto";     // exact occlusion culling (common/occlusion_cull.h): auto (per view), on, off                        // time the bakes and the frame's phases, cold and warm
   AppearanceOptions appearance;                // 000 §4's approximations (--no-self-shadow, ...)
   GlBackend backend = GlBackend::Auto;
   std::string inject;                          // planted fault (faults.def)

@@ -147,6 +147,7 @@ void FiberGpu::setModel(const YarnBuffers& yarn, std::span<const FiberCoord> fib
 
 void FiberGpu::setParams(const YarnParams& params, const ViewParams& view) {
   params_ = params;
+  view_ = view;
   yarnUbo_.update(&params, sizeof(YarnParams));
   viewUbo_.update(&view, sizeof(ViewParams));
 }

@@ -93,6 +93,8 @@ class FiberGpu {
   // place of the compute path's buffers: the same draw as FiberPath::Compute.
   void drawVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions, GLuint program);
   const YarnParams& params() const { return params_; }
+  // The view of the last setParams (the renderer's per-view culling choice).
+  const ViewParams& view() const { return view_; }
   // For the yarn shadow map's depth pass (FiberRenderer, common/shadow_map.h):
   // the model's yarn segments, its control points' bounds, and the yarn
   // buffers bound at their slots.
@@ -129,6 +131,7 @@ class FiberGpu {
   uint64_t modelVersion_ = 0;
   size_t pendingStrips_ = 0, pendingSamples_ = 0, sampleCapacity_ = 0, stripCapacity_ = 0, vertexCapacity_ = 0, indexCapacity_ = 0, xfbCapacityLines_ = 0, xfbLines_ = 0;
   YarnParams params_{};
+  ViewParams view_{};
 };
 
 }  // namespace ft

@@ -24,6 +24,14 @@ float Camera::pixelsPerUnitAtDepth1() const {
   return static_cast<float>(height) / (2.0f * std::tan(glm::radians(fovyDegrees) * 0.5f));
 }
 
+bool boxInView(const ViewParams& view, glm::vec3 lo, glm::vec3 hi, float slack) {
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec4 clip = view.viewProj * glm::vec4((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z, 1.0f);
+    if (!(clip.w > 0.0f) || std::abs(clip.x) > slack * clip.w || std::abs(clip.y) > slack * clip.w) return false;
+  }
+  return true;
+}
+
 ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled,
                           float chordErrorPx) {
   ViewParams v{};

@@ -34,6 +34,14 @@ inline constexpr float kDefaultChordErrorPx = 0.25f;
 ViewParams makeViewParams(const Camera& camera, float lodThresholdPx, bool lodEnabled, bool cullEnabled,
                           float chordErrorPx = kDefaultChordErrorPx);
 
+// Whether the box [lo, hi] is in view, give or take: every corner in front
+// of the eye and projected within `slack` times the image's half-size of its
+// centre (NDC |x|, |y| <= slack). FiberRenderer's per-view choice of
+// occlusion culling uses slack 2 (the whole model in view: `--distance frame`
+// fits the control points, whose box corners may lie a little outside;
+// docs/shaded-frame.md).
+bool boxInView(const ViewParams& view, glm::vec3 lo, glm::vec3 hi, float slack);
+
 // Camera that frames the whole model from direction `viewDir` (from the target).
 Camera frameModel(const YarnModel& model, glm::vec3 viewDir, int width, int height);
 

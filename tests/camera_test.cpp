@@ -52,6 +52,37 @@ TEST(Camera, NamedViewsFrameTheSameAtEveryResolution) {
   }
 }
 
+// The renderer's per-view culling choice (boxInView): a box is in view when
+// every corner lies in front of the eye and projects within `slack` times the
+// half-image of the centre (pinhole, written here); the frame view has the
+// whole model in view at slack 2, the close-up not even at 4.
+TEST(Camera, BoxInViewIsEveryCornerNearTheImage) {
+  const YarnModel model = makeDefaultScene();
+  const FittedFibers fibers = fitFibers(findYarnPreset("cotton1"), model, FiberOptions{});
+  glm::vec3 lo(3e38f), hi(-3e38f);
+  for (const YarnCurve& c : model.curves)
+    for (const glm::vec3& p : c.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const char* name : {"frame", "closeup", "near", "mid", "far"})
+    for (float slack : {1.0f, 2.0f, 4.0f}) {
+      SCOPED_TRACE(std::string(name) + " slack " + std::to_string(slack));
+      const Camera cam = namedViewCamera(name, model, fibers.params, {0.3f, 0.5f, 1.0f}, 1280, 960);
+      bool inside = true;
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec3 p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+        const glm::dvec2 px = pixelOf(cam, p) - glm::dvec2(640, 480);
+        const double depth = glm::dot(glm::dvec3(p - cam.eye), glm::normalize(glm::dvec3(cam.target - cam.eye)));
+        inside = inside && depth > 0.0 && std::abs(px.x) <= slack * 640 && std::abs(px.y) <= slack * 480;
+      }
+      EXPECT_EQ(boxInView(makeViewParams(cam, 1.0f, true, true), lo, hi, slack), inside);
+      if (std::string(name) == "frame" && slack == 2.0f) {
+        EXPECT_TRUE(inside);
+      }
+      if (std::string(name) == "closeup") {
+        EXPECT_FALSE(inside);
+      }
+    }
+}
+
 TEST(Camera, CloseupSegmentSpansOneSixteenthOfTheHeight) {
   const YarnModel model = makeDefaultScene();
   const FittedFibers fibers = fitFibers(findYarnPreset("cotton1"), model, FiberOptions{});
