@@ -102,19 +102,10 @@ Outcome runHarness(const std::string& inject, TempReportDir& dir, const std::str
 }
 
 // ---- the unmodified GPU side -------------------------------------------------
-
-TEST(fault_injection, UnmodifiedRunPassesEveryCase) {
-  TempReportDir dir("none");
-  const Outcome o = runHarness("", dir);
-  ASSERT_GT(o.run.results.size(), 0u) << "the harness ran no case\n" << o.log;
-  std::string failing;
-  for (const CaseResult& r : o.run.results)
-    if (!r.pass) failing += "  " + r.name + failingMetrics(r) + (r.error.empty() ? "" : "  error: " + r.error) + "\n";
-  EXPECT_TRUE(failing.empty()) << "cases failing without an injected fault:\n" << failing << describe(o.run);
-  EXPECT_TRUE(o.run.allPassed) << describe(o.run);
-  EXPECT_TRUE(fs::exists(dir.path() / "report.json")) << dir.path();
-  if (::testing::Test::HasFailure()) dir.keep();
-}
+// That every case passes without a fault is validate_default's job: it runs the
+// same harness on every preset, cotton1 (the preset used here) among them, in the
+// same ctest run. A copy here cost CI 100 s of its 25-minute budget for no check
+// validate_default does not already make.
 
 // ---- one test per planted fault ---------------------------------------------
 
