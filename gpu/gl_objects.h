@@ -5,6 +5,7 @@
 #include <epoxy/gl.h>
 
 #include <cstddef>
+#include <initializer_list>
 #include <string>
 #include <utility>
 #include <vector>
@@ -175,6 +176,15 @@ class Buffer : public GlObject<detail::BufferTraits> {
  private:
   std::size_t size_ = 0;
 };
+
+// A program must have a buffer on every storage block it declares, even on the
+// blocks the pass being dispatched never touches: one small buffer bound to each
+// such slot, alive as long as the returned object.
+inline Buffer bindUnusedStorageBlocks(std::initializer_list<GLuint> slots, std::size_t size = 64) {
+  Buffer b = Buffer::create(size);
+  for (GLuint s : slots) b.bindBase(GL_SHADER_STORAGE_BUFFER, s);
+  return b;
+}
 
 // Reads `count` elements of T starting `byteOffset` bytes into the buffer. Issues
 // glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT) first, so shader writes are visible.

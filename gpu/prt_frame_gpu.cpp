@@ -58,13 +58,12 @@ std::vector<PrtFramePixel> PrtFrameGpu::compose(std::span<const PrtFramePixel> p
   PrtFrameParams p{};
   p.sizes = uvec4(uint32_t(pixels.size()), 1u, 1u, 1u);
   const Buffer u = Buffer::create(sizeof(PrtFrameParams), &p);
-  const Buffer placeholder = Buffer::create(64);
+  const Buffer unusedUbo = Buffer::create(64);  // the volume's parameter block, declared but not read here
   const Buffer io = Buffer::create(std::max<size_t>(1, pixels.size()) * sizeof(PrtFramePixel), pixels.data());
   u.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_FRAME);
-  placeholder.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_VOL);
-  for (GLuint slot : {GLuint(FT_SSBO_PRT_RESULTS), GLuint(FT_SSBO_PRT_VOL_SEGMENTS), GLuint(FT_SSBO_SVF_SSDF),
-                      GLuint(FT_SSBO_PRT_REQUESTS)})
-    placeholder.bindBase(GL_SHADER_STORAGE_BUFFER, slot);
+  unusedUbo.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_VOL);
+  const Buffer unused = bindUnusedStorageBlocks(
+      {FT_SSBO_PRT_RESULTS, FT_SSBO_PRT_VOL_SEGMENTS, FT_SSBO_SVF_SSDF, FT_SSBO_PRT_REQUESTS});
   io.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_FRAME);
   dispatchFlat(program_.id(), pixels.size(), FT_WG_PRT_FRAME, maxGroupsY_, "prt_frame (compose)");
   return readBuffer<PrtFramePixel>(io.id(), pixels.size());

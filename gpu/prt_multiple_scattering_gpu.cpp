@@ -16,13 +16,6 @@ namespace {
 
 constexpr size_t kMatrix = size_t(3) * FT_SH_COEFFS * FT_SH_COEFFS;
 
-// Every storage block the program declares gets a buffer, whichever pass runs.
-Buffer bindPlaceholders(std::initializer_list<GLuint> slots) {
-  Buffer b = Buffer::create(16);
-  for (GLuint s : slots) b.bindBase(GL_SHADER_STORAGE_BUFFER, s);
-  return b;
-}
-
 }  // namespace
 
 PrtMultipleScatteringGpu::PrtMultipleScatteringGpu(const GlInfo& gl, const std::vector<std::string>& defines)
@@ -59,11 +52,11 @@ PrtMsGpuTables PrtMultipleScatteringGpu::tables(const FabricParams& fabric, int 
     throw std::invalid_argument(fmt::format("PrtMultipleScatteringGpu::tables: {} θ_i, {} φ nodes", thetaI, phiNodes));
   PrtMsGpuTables t;
   const size_t nPhi = size_t(2) * size_t(thetaI) * FT_SH_COEFFS;
-  const Buffer requests = bindPlaceholders({FT_SSBO_PRT_REQUESTS, FT_SSBO_PRT_MS_TRANSFER});
+  const Buffer requests = bindUnusedStorageBlocks({FT_SSBO_PRT_REQUESTS, FT_SSBO_PRT_MS_TRANSFER});
   {
     const Buffer out = Buffer::create(nPhi * 4);
     out.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
-    const Buffer unused = bindPlaceholders({FT_SSBO_PRT_MS_TABLES});
+    const Buffer unused = bindUnusedStorageBlocks({FT_SSBO_PRT_MS_TABLES});
     const Buffer u = params(FT_PRT_MS_PHI, uint32_t(2 * thetaI), 0, uint32_t(thetaI), uint32_t(phiNodes),
                             uint32_t(t.thetaO), uint32_t(t.lambdaNodes), 0, fabric);
     dispatchFlat(program_.id(), size_t(2 * thetaI), FT_WG_PRT_MS, maxGroupsY_, "prt_multiple_scattering (Φ)");
@@ -94,7 +87,7 @@ PrtMsGpuTables PrtMultipleScatteringGpu::tables(const FabricParams& fabric, int 
       for (size_t ch = 0; ch < 3; ++ch) t.cs[i * 3 + ch] = raw[i * 4 + ch];
   }
   {
-    const Buffer unused = bindPlaceholders({FT_SSBO_PRT_MS_TABLES});
+    const Buffer unused = bindUnusedStorageBlocks({FT_SSBO_PRT_MS_TABLES});
     const Buffer out = Buffer::create(size_t(t.lambdaNodes) * FT_SH_BANDS * 4);
     out.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
     const Buffer u = params(FT_PRT_MS_CG, uint32_t(t.lambdaNodes), 0, uint32_t(thetaI), uint32_t(phiNodes),
@@ -152,7 +145,7 @@ std::vector<double> PrtMultipleScatteringGpu::accumulateIirtf(std::span<const Pr
   const Buffer ys = Buffer::create(n * 72 * 4);
   in.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_REQUESTS);
   {
-    const Buffer unused = bindPlaceholders({FT_SSBO_PRT_MS_TABLES});
+    const Buffer unused = bindUnusedStorageBlocks({FT_SSBO_PRT_MS_TABLES});
     PrtMsAccumParams p{};
     p.sizes = glm::uvec4(0u, uint32_t(n), uint32_t(chunks), 0u);
     const Buffer u = Buffer::create(sizeof(p), &p);
@@ -216,7 +209,7 @@ std::vector<float> PrtMultipleScatteringGpu::shProbe(std::span<const glm::vec3> 
   const Buffer out = Buffer::create(std::max<size_t>(1, q.size()) * (72 + FT_SH_ROTATION_SIZE) * 4);
   req.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_REQUESTS);
   out.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
-  const Buffer unused = bindPlaceholders({FT_SSBO_PRT_MS_TRANSFER, FT_SSBO_PRT_MS_TABLES});
+  const Buffer unused = bindUnusedStorageBlocks({FT_SSBO_PRT_MS_TRANSFER, FT_SSBO_PRT_MS_TABLES});
   const Buffer u = params(FT_PRT_MS_SH_PROBE, uint32_t(q.size()), FT_SH_BANDS, 0, 0, 0, 0, 0, FabricParams{});
   dispatchFlat(program_.id(), q.size(), FT_WG_PRT_MS, maxGroupsY_, "prt_multiple_scattering (SH probe)");
   return readBuffer<float>(out.id(), q.size() * 72);

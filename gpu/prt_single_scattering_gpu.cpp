@@ -41,10 +41,8 @@ std::vector<float> PrtSingleScatteringGpu::bakeTable(std::span<const FabricParam
   const size_t n = 2 * fabrics.size() * FT_PRT_SS_TABLE_SIZE;
   const Buffer u = params(fabrics, 0, uint32_t(n), 1, FT_SVF_LAMBDA);
   const Buffer table = Buffer::create(n * 4);
-  const Buffer placeholder = Buffer::create(64);
   table.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_SS_TABLE);
-  for (GLuint s : {GLuint(FT_SSBO_PRT_REQUESTS), GLuint(FT_SSBO_PRT_RESULTS), GLuint(FT_SSBO_SVF_WEIGHTS)})
-    placeholder.bindBase(GL_SHADER_STORAGE_BUFFER, s);
+  const Buffer unused = bindUnusedStorageBlocks({FT_SSBO_PRT_REQUESTS, FT_SSBO_PRT_RESULTS, FT_SSBO_SVF_WEIGHTS});
   dispatchFlat(program_.id(), n, FT_WG_PRT_SS, maxGroupsY_, "prt_single_scattering (table)");
   return readBuffer<float>(table.id(), n);
 }

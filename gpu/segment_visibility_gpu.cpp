@@ -23,13 +23,6 @@ size_t imageCount(const SvfGpuBatch& b) {
   return b.images.size() / P;
 }
 
-// Every storage block the program declares gets a buffer, whichever pass runs.
-Buffer bindPlaceholders(std::initializer_list<GLuint> slots) {
-  Buffer b = Buffer::create(16);
-  for (GLuint s : slots) b.bindBase(GL_SHADER_STORAGE_BUFFER, s);
-  return b;
-}
-
 }  // namespace
 
 SegmentVisibilityGpu::SegmentVisibilityGpu(const GlInfo& gl, const std::vector<std::string>& defines)
@@ -64,7 +57,7 @@ SvfGpuResult SegmentVisibilityGpu::run(const SvfGpuBatch& b) {
   ssdf.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_SSDF);
   nearest.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_NEAREST);
   weights.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_WEIGHTS);
-  const Buffer unused = bindPlaceholders(
+  const Buffer unused = bindUnusedStorageBlocks(
       {FT_SSBO_SVF_PCA, FT_SSBO_SVF_DECODE});
   SvfGpuResult r;
   {
@@ -96,7 +89,7 @@ std::vector<glm::vec2> SegmentVisibilityGpu::decode(const SvfGpuBatch& b, std::s
                                             mean.size(), basis.size(), coefficients.size(), weights.size(), n, P,
                                             components));
   const Buffer u = params(b, 3, uint32_t(components));
-  const Buffer unused = bindPlaceholders({FT_SSBO_SVF_IMAGES, FT_SSBO_SVF_SSDF, FT_SSBO_SVF_NEAREST});
+  const Buffer unused = bindUnusedStorageBlocks({FT_SSBO_SVF_IMAGES, FT_SSBO_SVF_SSDF, FT_SSBO_SVF_NEAREST});
   std::vector<float> packed(mean.begin(), mean.end());
   packed.insert(packed.end(), basis.begin(), basis.end());
   packed.insert(packed.end(), coefficients.begin(), coefficients.end());
