@@ -29,7 +29,5 @@ void main() {
   FiberHit h;
   uint type;
   ftUnpackHit(r, h, type);
-  // A textured core's record holds the texture's coordinates, not yet its normal and direction.
-  if (type == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u) finishCoreTexture(h);
   entries[k].color = vec4(shadeFiberOfType(h, type), 1.0);
 }

@@ -290,6 +290,7 @@ float selfShadowTransmittance(CrossSection c, vec3 wi) {
 // height-map to determine these holes"), else replaces the hit's normal,
 // tangent (the BCSDF's fiber direction) and position (moved by h towards the
 // viewer, which the self-shadow lookup then uses).
+#ifndef FT_DEFERRED_SHADE
 vec4 coreTexel0(uint i, uint j) { return coreTex0[j * coreTexture.columns + i]; }
 vec4 coreTexel1(uint i, uint j) { return coreTex1[j * coreTexture.columns + i]; }
 vec4 coreLerp0(CoreLookup l) {
@@ -300,7 +301,6 @@ vec4 coreLerp1(CoreLookup l) {
   return mix(mix(coreTexel1(l.i.x, l.j.x), coreTexel1(l.i.y, l.j.x), l.w.x),
              mix(coreTexel1(l.i.x, l.j.y), coreTexel1(l.i.y, l.j.y), l.w.x), l.w.y);
 }
-#ifndef FT_DEFERRED_SHADE
 bool applyCoreTexture(inout FiberHit h) {
   CrossSection c = crossSection(h);
   vec4 cs = FT_HIT_YARN_C(h);
@@ -341,23 +341,12 @@ bool applyCoreTexture(inout FiberHit h) {
     }
 #endif
 #endif
-#ifdef FT_VISIBILITY_PASS
-  // Deferred: only the hole and the moved position (the depth) decide
-  // visibility; the texture's normal and fiber direction are the shading's
-  // (finishCoreTexture), from the viewer's azimuth vp and the texture
-  // coordinates, which the record carries in the tangent's and the normal's
-  // place. The position as below, from the height alone.
-  h.position = axisPoint + (2.0 * coreLerp0(l).x - 1.0) * halfWidth * vp + y * side;
-  h.tangent = vp;
-  h.normal = vec3(u, v, 0.0);
-#else
   vec4 t0 = coreLerp0(l), t1 = coreLerp1(l);
   vec3 n = ftCoreTexelNormal(t0);  // (n_x toward the viewer, n_y, n_z) in the bake frame
   h.normal = normalize(n.z * T + n.y * side + n.x * vp);
   vec3 t = t1.x * T + t1.y * side + t1.z * vp;
   if (dot(t, t) > 0.0) h.tangent = normalize(t);
   h.position = axisPoint + (2.0 * t0.x - 1.0) * halfWidth * vp + y * side;
-#endif
   return true;
 }
 #endif  // FT_DEFERRED_SHADE
@@ -605,30 +594,6 @@ void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   h.yarnB = r[4].xyz;
   h.curve = code >> 2u;
 }
-
-#ifdef FT_DEFERRED_SHADE
-// The core-fiber texture's normal and fiber direction at a textured core's
-// hit, as applyCoreTexture computes them in the forward pass, from what the
-// visibility pass left in the record: the viewer's azimuth vp (tangent's
-// place) and the texture coordinates (u, v) (normal's place); T from the
-// record's yarn frame as crossSection gives it. Moved out of the visibility
-// pass, where llvmpipe paid it for every rasterised fragment
-// (docs/shaded-frame.md, "Profile of the visibility pass").
-void finishCoreTexture(inout FiberHit h) {
-  CrossSection c = crossSection(h);
-  vec3 T = normalize(cross(c.N, c.B));
-  vec3 vp = h.tangent;
-  vec3 side = cross(T, vp);
-  CoreLookup l = ftCoreTextureLookup(coreTexture.width, coreTexture.height, h.normal.x, h.normal.y);
-  vec4 t0 = coreLerp0(l), t1 = coreLerp1(l);
-  vec3 n = ftCoreTexelNormal(t0);
-  h.normal = normalize(n.z * T + n.y * side + n.x * vp);
-  // t_u > 0 at every solid texel and the nearest texel is solid (the hole
-  // test passed), so t ≠ 0; T for safety.
-  vec3 t = t1.x * T + t1.y * side + t1.z * vp;
-  h.tangent = dot(t, t) > 0.0 ? normalize(t) : T;
-}
-#endif
 
 #ifndef FT_DEFERRED_SHADE
 void main() {
