@@ -38,7 +38,7 @@ struct PrtFrameSettings {
   int volumeSamples = 256;        // N per eye ray (004 §5.1; midpoint ids)
   // The G-buffer's id (docs/exemplar-volume.md "Ids"): FT_VOL_IDS_CAPSULE (the first exact
   // capsule hit among the volume's candidates) or FT_VOL_IDS_MIDPOINT (004 §5.1's nearest midpoint).
-  uint32_t volumeIds = FT_VOL_IDS_MIDPOINT;
+  uint32_t volumeIds = FT_VOL_IDS_CAPSULE;
   bool embreeGBuffer = false;     // experiment: the G-buffer from Embree first hits on the capsules, not the volume
   int voxelsPerDiameter = 1;      // volume voxels per fiber diameter (1: h ≈ 2 r_f, notes §8.7)
   int svfSize = 32;               // the visibility image is svfSize × svfSize (004: 128)
