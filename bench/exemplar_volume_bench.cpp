@@ -45,6 +45,22 @@ void BM_VolBuildGpu(benchmark::State& state) {
                                                       benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The CPU capsule ids (TBB over rows), the rays of BM_VolSampleGpu.
+void BM_VolSampleCpuCapsule(benchmark::State& state) {
+  const ft::ExemplarVolume vol = ft::buildExemplarVolumeCpu(g_block, g_layout, g_cand);
+  ft::VolParams rays = g_layout;
+  ft::VolCamera cam;
+  const float P = ft::ftVolPeriod(g_layout);
+  cam.direction = glm::normalize(glm::vec3(0.5f, 0.3f, -1.0f));
+  cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
+  cam.position = -3.0f * P * cam.direction;
+  cam.halfWidth = cam.halfHeight = 2.0f * P;
+  ft::setVolumeRays(rays, cam, 1024, 1024, 1, FT_VOL_IDS_CAPSULE);
+  for (auto _ : state) benchmark::DoNotOptimize(ft::sampleVolumeCpu(vol, rays));
+  state.counters["rays_per_s"] = benchmark::Counter(1024.0 * 1024.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// samples 0: the capsule ids (the first exact capsule hit; N unused).
 void BM_VolSampleGpu(benchmark::State& state, int samples) {
   g_gpu->build(g_layout, g_segs, g_cand.start, g_cand.entries);
   ft::VolParams rays = g_layout;
@@ -54,7 +70,8 @@ void BM_VolSampleGpu(benchmark::State& state, int samples) {
   cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
   cam.position = -3.0f * P * cam.direction;
   cam.halfWidth = cam.halfHeight = 2.0f * P;
-  ft::setVolumeRays(rays, cam, 1024, 1024, samples);
+  ft::setVolumeRays(rays, cam, 1024, 1024, samples > 0 ? samples : 1,
+                    samples > 0 ? FT_VOL_IDS_MIDPOINT : FT_VOL_IDS_CAPSULE);
   for (auto _ : state) {
     g_gpu->sampleNoReadback(rays);
     glFinish();
@@ -81,6 +98,9 @@ int main(int argc, char** argv) {
                                               "x" + std::to_string(g_layout.dims.z));
     benchmark::AddCustomContext("segments", std::to_string(g_block.segments.size()));
     benchmark::RegisterBenchmark("BM_VolBuildCpu", BM_VolBuildCpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+    benchmark::RegisterBenchmark("BM_VolSampleCpuCapsule", BM_VolSampleCpuCapsule)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
     try {
       g_gl = ft::GlContext::create(ft::glBackendFromEnv());
       g_gpu = std::make_unique<ft::ExemplarVolumeGpu>(g_gl->info());
@@ -90,6 +110,7 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark(("BM_VolSampleGpu/" + std::to_string(n)).c_str(), BM_VolSampleGpu, n)
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
+      benchmark::RegisterBenchmark("BM_VolSampleGpuCapsule", BM_VolSampleGpu, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
     } catch (const std::exception& e) {
       std::cerr << "ft_exemplar_volume_bench: no GL context, CPU benchmarks only (" << e.what() << ")\n";
     }
