@@ -235,13 +235,13 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
   r.cpuMilliseconds = cpuMs;
   r.gpuMilliseconds = gpuMs;
   r.gpuTiming = "wall clock: volume build + sample, requests, SS and MS evaluation (tables baked), composition, read-backs";
-  r.details = fmt::format("{} pixels compared over {} configurations; {} G-buffer ids differ (volume ties); "
+  r.details = fmt::format("{} pixels compared over {} configurations; {} G-buffer ids differ (float ties); "
                           "max |Δ|/peak: total {:.3g}, single {:.3g}, multiple {:.3g}; GPU table bakes {:.0f} ms; {:.0f} ms in all",
                           compared, std::size(configs), idsDiffer, maxRel, maxSingle, maxMulti, bakeMs, msSince(t0));
   r.metrics = {
       Metric{"radiance.max_rel", maxRel, kGpuTolerance, "of the peak", kGpuWhy},
       Metric{"ids.differing", double(idsDiffer), 1e9, "pixels",
-             "G-buffer ids that differ between the CPU and GPU volumes (float ties of the nearest midpoint)", false},
+             "G-buffer ids that differ between the CPU and GPU volumes (float ties: of the nearest midpoint, or of two capsule entries)", false},
       Metric{"pixels.compared", double(compared), 1e9, "pixels", "covered pixels with equal ids", false},
       nonFiniteMetric("gpu", nonFinite, "GPU frame pixels"),
   };
