@@ -83,20 +83,25 @@ void BM_VolSampleGpu(benchmark::State& state, int samples) {
 
 int main(int argc, char** argv) {
   try {
-    std::string fibers = "24", radius = "0.0008";
+    std::string fibers = "24", radius = "0.0008", cell = "4";
     ft::takeFlag(argc, argv, "fibers-per-ply", fibers);
     ft::takeFlag(argc, argv, "fiber-radius", radius);
+    ft::takeFlag(argc, argv, "cell-voxels", cell);  // voxels per candidate cell side
     ft::ExemplarSettings es;
     es.fibersPerPly = std::stoi(fibers);
     es.fiberRadius = std::stof(radius);
     g_block = ft::makePlainWeaveExemplar(es);
-    g_layout = ft::makeVolumeLayout(g_block);
+    g_layout = ft::makeVolumeLayout(g_block, 0, std::stoi(cell));
     g_cand = ft::buildVolumeCandidates(g_block, g_layout);
     g_segs = ft::volumeSegments(g_block);
     benchmark::AddCustomContext("exemplar", g_block.label);
     benchmark::AddCustomContext("volume", std::to_string(g_layout.dims.x) + "x" + std::to_string(g_layout.dims.y) +
                                               "x" + std::to_string(g_layout.dims.z));
     benchmark::AddCustomContext("segments", std::to_string(g_block.segments.size()));
+    benchmark::AddCustomContext("cell_voxels", cell);
+    benchmark::AddCustomContext("candidates_max_per_cell", std::to_string(g_cand.maxPerCell));
+    benchmark::AddCustomContext("candidates_mean_per_cell",
+                                std::to_string(double(g_cand.entries.size()) / double(g_cand.start.size() - 1)));
     benchmark::RegisterBenchmark("BM_VolBuildCpu", BM_VolBuildCpu)->Unit(benchmark::kMillisecond)->UseRealTime();
     benchmark::RegisterBenchmark("BM_VolSampleCpuCapsule", BM_VolSampleCpuCapsule)
         ->Unit(benchmark::kMillisecond)
