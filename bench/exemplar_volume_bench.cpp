@@ -45,24 +45,9 @@ void BM_VolBuildGpu(benchmark::State& state) {
                                                       benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// The CPU capsule ids (TBB over rows), the rays of BM_VolSampleGpu.
-void BM_VolSampleCpuCapsule(benchmark::State& state) {
-  const ft::ExemplarVolume vol = ft::buildExemplarVolumeCpu(g_block, g_layout, g_cand);
-  ft::VolParams rays = g_layout;
-  ft::VolCamera cam;
-  const float P = ft::ftVolPeriod(g_layout);
-  cam.direction = glm::normalize(glm::vec3(0.5f, 0.3f, -1.0f));
-  cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
-  cam.position = -3.0f * P * cam.direction;
-  cam.halfWidth = cam.halfHeight = 2.0f * P;
-  ft::setVolumeRays(rays, cam, 1024, 1024, 1, FT_VOL_IDS_CAPSULE);
-  for (auto _ : state) benchmark::DoNotOptimize(ft::sampleVolumeCpu(vol, rays));
-  state.counters["rays_per_s"] = benchmark::Counter(1024.0 * 1024.0, benchmark::Counter::kIsIterationInvariantRate);
-}
-
-// samples 0: the capsule ids (the first exact capsule hit; N unused).
-void BM_VolSampleGpu(benchmark::State& state, int samples) {
-  g_gpu->build(g_layout, g_segs, g_cand.start, g_cand.entries);
+// 1024² orthographic rays over [−2P, 2P]², 27° off the normal; samples 0:
+// the capsule ids, else the midpoint ids with N = samples.
+ft::VolParams benchRays(int samples) {
   ft::VolParams rays = g_layout;
   ft::VolCamera cam;
   const float P = ft::ftVolPeriod(g_layout);
@@ -72,6 +57,21 @@ void BM_VolSampleGpu(benchmark::State& state, int samples) {
   cam.halfWidth = cam.halfHeight = 2.0f * P;
   ft::setVolumeRays(rays, cam, 1024, 1024, samples > 0 ? samples : 1,
                     samples > 0 ? FT_VOL_IDS_MIDPOINT : FT_VOL_IDS_CAPSULE);
+  return rays;
+}
+
+// The CPU capsule ids (TBB over rows), the rays of BM_VolSampleGpu.
+void BM_VolSampleCpuCapsule(benchmark::State& state) {
+  const ft::ExemplarVolume vol = ft::buildExemplarVolumeCpu(g_block, g_layout, g_cand);
+  const ft::VolParams rays = benchRays(0);
+  for (auto _ : state) benchmark::DoNotOptimize(ft::sampleVolumeCpu(vol, rays));
+  state.counters["rays_per_s"] = benchmark::Counter(1024.0 * 1024.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// samples 0: the capsule ids (the first exact capsule hit; N unused).
+void BM_VolSampleGpu(benchmark::State& state, int samples) {
+  g_gpu->build(g_layout, g_segs, g_cand.start, g_cand.entries);
+  const ft::VolParams rays = benchRays(samples);
   for (auto _ : state) {
     g_gpu->sampleNoReadback(rays);
     glFinish();

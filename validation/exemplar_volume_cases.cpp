@@ -145,6 +145,22 @@ VolParams testRays(const VolSetup& s, int samples, glm::vec2 shift = glm::vec2(0
   return p;
 }
 
+// The pinhole camera (prt/vol/sampler, prt/vol/capsule): eye 1.2 P above the
+// block's corner, looking down 20° off the normal, 60° field of view (rays
+// from −25° to 45°).
+VolParams pinholeRays(const VolSetup& s, int samples, uint32_t ids) {
+  const float P = ftVolPeriod(s.layout);
+  VolCamera cam;
+  cam.type = FT_VOL_CAMERA_PINHOLE;
+  cam.position = glm::vec3(0.0f, 0.0f, 1.2f * P);
+  cam.direction = glm::vec3(0.342f, 0.0f, -0.940f);
+  cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
+  cam.halfWidth = cam.halfHeight = 0.577f;  // tan 30°
+  VolParams p = s.layout;
+  setVolumeRays(p, cam, kRays, kRays, samples, ids);
+  return p;
+}
+
 template <class T>
 uint64_t nonFinitePoints(const std::vector<T>& hits) {
   uint64_t n = 0;
@@ -264,17 +280,7 @@ CaseResult runSamplerCase(ValidationContext& ctx, const std::string& name) {
   // camera and a pinhole one (eye 1.2 P above the block's corner, looking
   // down 20° off the normal, 60° field of view: rays from −25° to 45°).
   const VolParams ortho = testRays(s, kSamples);
-  VolParams pinhole = s.layout;
-  {
-    const float P = ftVolPeriod(s.layout);
-    VolCamera cam;
-    cam.type = FT_VOL_CAMERA_PINHOLE;
-    cam.position = glm::vec3(0.0f, 0.0f, 1.2f * P);
-    cam.direction = glm::vec3(0.342f, 0.0f, -0.940f);
-    cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
-    cam.halfWidth = cam.halfHeight = 0.577f;  // tan 30°
-    setVolumeRays(pinhole, cam, kRays, kRays, kSamples);
-  }
+  const VolParams pinhole = pinholeRays(s, kSamples, FT_VOL_IDS_MIDPOINT);
   std::vector<VolHit> cpu, gpu;
   std::vector<float> face;
   ExemplarVolumeGpu& g = ctx.gpu<ExemplarVolumeGpu>();
@@ -631,20 +637,6 @@ CaseResult runEmbreeCase(ValidationContext& ctx, const std::string& name) {
 }
 
 // ---- prt/vol/capsule ---------------------------------------------------------
-// The pinhole camera of prt/vol/sampler.
-VolParams pinholeRays(const VolSetup& s, int samples, uint32_t ids) {
-  const float P = ftVolPeriod(s.layout);
-  VolCamera cam;
-  cam.type = FT_VOL_CAMERA_PINHOLE;
-  cam.position = glm::vec3(0.0f, 0.0f, 1.2f * P);
-  cam.direction = glm::vec3(0.342f, 0.0f, -0.940f);
-  cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
-  cam.halfWidth = cam.halfHeight = 0.577f;  // tan 30°
-  VolParams p = s.layout;
-  setVolumeRays(p, cam, kRays, kRays, samples, ids);
-  return p;
-}
-
 CaseResult runCapsuleCase(ValidationContext& ctx, const std::string& name) {
   CaseResult r = start(name);
   VolSetup& s = setup(ctx);
