@@ -559,31 +559,39 @@ CaseResult runEmbreeCase(ValidationContext& ctx, const std::string& name) {
   if (ctx.options().images) {
     gpuVolume(ctx);
     const VolParams zoom = testRays(s, kSamples, glm::vec2(0.0f), 0.25f);
+    VolParams zoomCapsule = zoom;
+    zoomCapsule.camDir.w = float(FT_VOL_IDS_CAPSULE);
     const std::vector<VolHit> gpu = ctx.gpu<ExemplarVolumeGpu>().sample(zoom);
+    const std::vector<VolHit> gpuCapsule = ctx.gpu<ExemplarVolumeGpu>().sample(zoomCapsule);
     const std::vector<VolHit> truth = s.truth->firstHits(zoom, 1e30f);
-    const int scale = 2, gap = 4, pw = kRays * scale;
+    const int scale = 2, gap = 4, pw = kRays * scale, panels = 5;
     RgbaImage img;
-    img.width = 3 * pw + 2 * gap;
+    img.width = panels * pw + (panels - 1) * gap;
     img.height = pw;
     img.pixels.assign(size_t(img.width) * img.height * 4, 255);
     const uint32_t S = uint32_t(s.block.segments.size());
-    for (int panel = 0; panel < 3; ++panel)
+    const auto agreement = [](uint32_t id, uint32_t tid) {
+      return id == tid ? (tid == 0 ? glm::uvec3(0) : glm::uvec3(200)) : glm::uvec3(220, 30, 30);
+    };
+    for (int panel = 0; panel < panels; ++panel)
       for (int y = 0; y < pw; ++y)
         for (int x = 0; x < pw; ++x) {
           const size_t i = size_t(y / scale) * kRays + size_t(x / scale);
           const uint32_t tid = truth[i].id == 0 ? 0 : (truth[i].id - 1) % S + 1;
           glm::uvec3 c;
           if (panel == 0) c = idColour(gpu[i].id);
-          else if (panel == 1) c = idColour(tid);
-          else c = gpu[i].id == tid ? (tid == 0 ? glm::uvec3(0) : glm::uvec3(200)) : glm::uvec3(220, 30, 30);
+          else if (panel == 1) c = idColour(gpuCapsule[i].id);
+          else if (panel == 2) c = idColour(tid);
+          else if (panel == 3) c = agreement(gpu[i].id, tid);
+          else c = agreement(gpuCapsule[i].id, tid);
           uint8_t* px = &img.pixels[(size_t(y) * img.width + size_t(panel * (pw + gap) + x)) * 4];
           px[0] = uint8_t(c.x), px[1] = uint8_t(c.y), px[2] = uint8_t(c.z), px[3] = 255;
         }
     r.images.push_back(ctx.saveImage(img, "prt-volume-ids"));
     r.imageCaptions.push_back(fmt::format(
-        "segment ids, false colour: (a) GPU G-buffer, {} samples; (b) Embree first hit on the 7 × 7 tiled capsules "
-        "(block id); (c) grey: same id, red: different, black: both miss — {}² orthographic rays over [−P/4, P/4]², "
-        "35° off the normal",
+        "segment ids, false colour: (a) GPU G-buffer, midpoint ids, {} samples; (b) GPU G-buffer, capsule ids; (c) "
+        "Embree first hit on the 7 × 7 tiled capsules (block id); (d), (e) grey: (a), (b) name Embree's segment, red: "
+        "another, black: both miss — {}² orthographic rays over [−P/4, P/4]², 35° off the normal",
         kSamples, kRays));
   }
   std::string trend;
