@@ -63,10 +63,10 @@ using glm::ivec3;
 #define FT_VOL_CAMERA_PINHOLE 1u
 // The G-buffer's id (VolParams.camDir.w): 004 §5.1's nearest midpoint at the
 // first non-empty sample, or the first exact ray–capsule hit among the
-// candidates of the non-empty voxels the ray crosses (docs/exemplar-volume.md).
+// candidates of the cells the ray crosses (docs/exemplar-volume.md).
 #define FT_VOL_IDS_MIDPOINT 0u
 #define FT_VOL_IDS_CAPSULE 1u
-#define FT_VOL_MAX_STEPS 8192u  // voxel steps per ray of the capsule traversal (then a miss)
+#define FT_VOL_MAX_STEPS 8192u  // cells per ray of the capsule walk (then a miss)
 
 FT_NAMESPACE_BEGIN
 
@@ -226,11 +226,11 @@ FT_FUNC vec3 ftVolRayDirection(VolParams p, uint x, uint y) {
 }
 
 // ---- capsule ids: the first exact hit along the ray ------------------------
-// (docs/exemplar-volume.md "Ids"). The ray walks the voxels it crosses
-// (Amanatides & Woo 1987, unwrapped coordinates); at each non-empty voxel the
-// candidates of its cell (every capsule that can touch the cell's voxels) are
-// tested exactly, in the block frame shifted by the voxel's whole periods; the
-// nearest hit wins once the walk passes it. The loop over candidates is
+// (docs/exemplar-volume.md "Ids"). The ray walks the candidate cells it
+// crosses (Amanatides & Woo 1987's traversal on the cells, unwrapped
+// coordinates); in each, the candidates (every capsule that can touch the
+// cell's voxels) are tested exactly, in the block frame shifted by the cell's
+// whole periods; the nearest hit wins once the walk passes it. The loop over candidates is
 // written out by the two callers (reference/exemplar_volume.cpp,
 // exemplar_volume_sample.comp.glsl), like the sampler's.
 
@@ -271,59 +271,79 @@ FT_FUNC float ftVolRayCapsule(vec3 o, vec3 d, vec3 a, vec3 b, float r) {
   return best;
 }
 
-// The voxel walk: the current voxel v (unwrapped), its entry parameter t, the
-// parameters where it crosses the next face on each axis, their spacing, the
-// step direction.
+// The cell walk: a voxel v (unwrapped) of the current candidate cell, the
+// cell's entry parameter t, and per axis the parameter where the ray leaves
+// the cell through its face in the step direction. Cells are grid.w voxels a
+// side from each period's start, the last of a period (and of the slab in z)
+// partial when the count is not a multiple; each face's parameter is computed
+// from the ray afresh (no accumulated increments).
 struct VolWalk {
   ivec3 v;
   float t;
   vec3 tMax;
-  vec3 tDelta;
   ivec3 step;
 };
+
+// The face coordinate (in voxels, unwrapped) of the cell of voxel v on one
+// axis, in the step direction dir: periodic (x, y: cells restart every n
+// voxels) or not (z).
+FT_FUNC int ftVolCellFace(int v, int dir, int n, int B, bool periodic) {
+  int w = periodic ? ftVolWrap(v, n) : v;
+  int lo = (w / B) * B;
+  int hi = min(lo + B, n);
+  return v - w + (dir > 0 ? hi : lo);
+}
+
+// Parameter at which the ray reaches voxel coordinate f on axis a.
+FT_FUNC float ftVolFaceT(vec3 o, vec3 d, int a, int f, VolParams p) {
+  float oa = a == 0 ? o.x : (a == 1 ? o.y : o.z);
+  float da = a == 0 ? d.x : (a == 1 ? d.y : d.z);
+  float ga = a == 0 ? p.origin.x : (a == 1 ? p.origin.y : p.origin.z);
+  return (ga + float(f) * p.origin.w - oa) / da;
+}
+
+FT_FUNC float ftVolWalkFaceT(vec3 o, vec3 d, int a, ivec3 v, ivec3 step, VolParams p) {
+  int st = a == 0 ? step.x : (a == 1 ? step.y : step.z);
+  if (st == 0) return 3.0e38f;
+  int va = a == 0 ? v.x : (a == 1 ? v.y : v.z);
+  int n = int(a == 0 ? p.dims.x : (a == 1 ? p.dims.y : p.dims.z));
+  return ftVolFaceT(o, d, a, ftVolCellFace(va, st, n, int(p.grid.w), a < 2), p);
+}
 
 // The walk from the slab entry t0 (the start voxel's k clamped into the slab:
 // a point on a face may round to just outside it).
 FT_FUNC VolWalk ftVolWalkBegin(vec3 o, vec3 d, float t0, VolParams p) {
   VolWalk w;
-  float h = p.origin.w;
-  vec3 org = vec3(p.origin.x, p.origin.y, p.origin.z);
-  vec3 c = (o + t0 * d - org) / h;
+  vec3 c = (o + t0 * d - vec3(p.origin.x, p.origin.y, p.origin.z)) / p.origin.w;
   w.v = ivec3(int(floor(c.x)), int(floor(c.y)), int(floor(c.z)));
   w.v.z = min(max(w.v.z, 0), int(p.dims.z) - 1);
   w.t = t0;
-  for (int a = 0; a < 3; ++a) {
-    float da = a == 0 ? d.x : (a == 1 ? d.y : d.z);
-    float ca = a == 0 ? c.x : (a == 1 ? c.y : c.z);
-    int va = a == 0 ? w.v.x : (a == 1 ? w.v.y : w.v.z);
-    int st = da > 0.0f ? 1 : (da < 0.0f ? -1 : 0);
-    float tm = 3.0e38f, td = 3.0e38f;
-    if (st != 0) {
-      float face = float(st > 0 ? va + 1 : va);
-      tm = t0 + (face - ca) * h / da;
-      td = h / abs(da);
-    }
-    if (a == 0) w.step.x = st, w.tMax.x = tm, w.tDelta.x = td;
-    else if (a == 1) w.step.y = st, w.tMax.y = tm, w.tDelta.y = td;
-    else w.step.z = st, w.tMax.z = tm, w.tDelta.z = td;
-  }
+  w.step = ivec3(d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0), d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0),
+                 d.z > 0.0f ? 1 : (d.z < 0.0f ? -1 : 0));
+  w.tMax = vec3(ftVolWalkFaceT(o, d, 0, w.v, w.step, p), ftVolWalkFaceT(o, d, 1, w.v, w.step, p),
+                ftVolWalkFaceT(o, d, 2, w.v, w.step, p));
   return w;
 }
 
-// The next voxel: across the nearest face.
-FT_FUNC VolWalk ftVolWalkNext(VolWalk w) {
-  if (w.tMax.x <= w.tMax.y && w.tMax.x <= w.tMax.z) {
+// The next cell: across the nearest face (v moves to the first voxel beyond it).
+FT_FUNC VolWalk ftVolWalkNext(vec3 o, vec3 d, VolWalk w, VolParams p) {
+  int a = (w.tMax.x <= w.tMax.y && w.tMax.x <= w.tMax.z) ? 0 : (w.tMax.y <= w.tMax.z ? 1 : 2);
+  int B = int(p.grid.w);
+  if (a == 0) {
     w.t = w.tMax.x;
-    w.tMax.x += w.tDelta.x;
-    w.v.x += w.step.x;
-  } else if (w.tMax.y <= w.tMax.z) {
+    int f = ftVolCellFace(w.v.x, w.step.x, int(p.dims.x), B, true);
+    w.v.x = w.step.x > 0 ? f : f - 1;
+    w.tMax.x = ftVolWalkFaceT(o, d, 0, w.v, w.step, p);
+  } else if (a == 1) {
     w.t = w.tMax.y;
-    w.tMax.y += w.tDelta.y;
-    w.v.y += w.step.y;
+    int f = ftVolCellFace(w.v.y, w.step.y, int(p.dims.y), B, true);
+    w.v.y = w.step.y > 0 ? f : f - 1;
+    w.tMax.y = ftVolWalkFaceT(o, d, 1, w.v, w.step, p);
   } else {
     w.t = w.tMax.z;
-    w.tMax.z += w.tDelta.z;
-    w.v.z += w.step.z;
+    int f = ftVolCellFace(w.v.z, w.step.z, int(p.dims.z), B, false);
+    w.v.z = w.step.z > 0 ? f : f - 1;
+    w.tMax.z = ftVolWalkFaceT(o, d, 2, w.v, w.step, p);
   }
   return w;
 }

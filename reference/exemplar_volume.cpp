@@ -172,10 +172,9 @@ void setVolumeRays(VolParams& p, const VolCamera& cam, int width, int height, in
 
 namespace {
 
-// The capsule ids (common/exemplar_volume.h "capsule ids"): the voxel walk,
-// at each non-empty voxel the exact test of its cell's candidates in the
-// frame shifted by the voxel's whole periods, the nearest hit once the walk
-// has passed it.
+// The capsule ids (common/exemplar_volume.h "capsule ids"): the cell walk,
+// in each cell the exact test of its candidates in the frame shifted by the
+// cell's whole periods, the nearest hit once the walk has passed it.
 void sampleCapsules(const ExemplarVolume& vol, const VolParams& p, std::vector<VolHit>& out,
                     std::vector<float>* tieGap) {
   const VolumeCandidates& cand = vol.candidates;
@@ -195,16 +194,11 @@ void sampleCapsules(const ExemplarVolume& vol, const VolParams& p, std::vector<V
         float best = -1.0f, gap = std::numeric_limits<float>::infinity();
         uint32_t bestId = 0;
         std::vector<float> entries;  // the candidates' entries, for the tie gap
-        int lastCell = -1, lastSx = 0, lastSy = 0;
         VolWalk w = ftVolWalkBegin(o, d, t.x, p);
-        for (uint32_t step = 0; step < FT_VOL_MAX_STEPS; ++step, w = ftVolWalkNext(w)) {
+        for (uint32_t step = 0; step < FT_VOL_MAX_STEPS; ++step, w = ftVolWalkNext(o, d, w, p)) {
           if (w.v.z < 0 || w.v.z >= nz || w.t > t.y || (best >= 0.0f && w.t > best)) break;
-          const int idx = ftVolIndex(w.v, p.dims);
-          if (vol.ids[size_t(idx)] == 0u) continue;
           const glm::ivec3 wv(ftVolWrap(w.v.x, nx), ftVolWrap(w.v.y, ny), w.v.z);
           const int cell = int(ftVolCellOf(wv, p)), sx = ftVolPeriodsOf(w.v.x, nx), sy = ftVolPeriodsOf(w.v.y, ny);
-          if (cell == lastCell && sx == lastSx && sy == lastSy) continue;  // this cell's box is tested
-          lastCell = cell, lastSx = sx, lastSy = sy;
           const glm::vec3 os = o - glm::vec3(float(sx) * P, float(sy) * P, 0.0f);
           for (uint32_t e = cand.start[size_t(cell)]; e < cand.start[size_t(cell) + 1]; ++e) {
             const uint32_t k = cand.entries[e] / FT_VOL_COPIES, c = cand.entries[e] % FT_VOL_COPIES;

@@ -9,7 +9,7 @@
 //     candidates: the conservative capsule–box test, the nearest midpoint;
 //   * sampleVolumeCpu: the scalar ray sampler → G-buffer (id, flat point):
 //     004's nearest midpoint at the first non-empty sample, or the first exact
-//     capsule hit among the candidates of the non-empty voxels crossed;
+//     capsule hit among the candidates of the cells crossed;
 //   * VolumeTruth: Embree first hits against the real capsules (round linear
 //     curves) of the tiled exemplar.
 #pragma once

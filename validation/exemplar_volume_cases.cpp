@@ -15,7 +15,7 @@
 //                        capsules of the 7 × 7 tiled exemplar, N = 32, 64,
 //                        128 (004 Fig. 13's trend) and 1024;
 //   prt/vol/capsule      the capsule ids (the first exact capsule hit among
-//                        the candidates of the non-empty voxels crossed):
+//                        the candidates of the cells crossed):
 //                        GPU vs CPU, and against Embree's first hit (same
 //                        segment, hit/miss, hit point, coverage).
 #include <fmt/format.h>

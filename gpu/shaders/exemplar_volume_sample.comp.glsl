@@ -3,10 +3,9 @@
 // the slab and sampled at N linearly spaced sample centres; the first sample
 // in a non-empty voxel writes (flat-space point, id) to the G-buffer
 // (FT_SSBO_PRT_RESULTS), none writes a miss (id 0). Capsule ids
-// (vol.camDir.w = FT_VOL_IDS_CAPSULE): the voxel walk over the non-empty
-// voxels, the exact test of their cells' candidates (held after the ids in
-// the volume buffer, ftVolCandidateBase), the nearest hit (the CPU's
-// sampleCapsules).
+// (vol.camDir.w = FT_VOL_IDS_CAPSULE): the walk over the candidate cells,
+// the exact test of their candidates (held after the ids in the volume
+// buffer, ftVolCandidateBase), the nearest hit (the CPU's sampleCapsules).
 #include "common/constants.h"
 #include "common/exemplar_volume.h"
 #include "shaders/flat_dispatch.glsl"
@@ -42,17 +41,11 @@ void main() {
     uint sbase = cbase + cells + 1u + ids[cbase + cells];
     float best = -1.0f;
     uint bestId = 0u;
-    int lastCell = -1, lastSx = 0, lastSy = 0;
     VolWalk w = ftVolWalkBegin(o, d, t.x, vol);
-    for (uint step = 0u; step < FT_VOL_MAX_STEPS; ++step, w = ftVolWalkNext(w)) {
+    for (uint step = 0u; step < FT_VOL_MAX_STEPS; ++step, w = ftVolWalkNext(o, d, w, vol)) {
       if (w.v.z < 0 || w.v.z >= nz || w.t > t.y || (best >= 0.0f && w.t > best)) break;
-      if (ids[uint(ftVolIndex(w.v, vol.dims))] == 0u) continue;
       ivec3 wv = ivec3(ftVolWrap(w.v.x, nx), ftVolWrap(w.v.y, ny), w.v.z);
       int cell = int(ftVolCellOf(wv, vol)), sx = ftVolPeriodsOf(w.v.x, nx), sy = ftVolPeriodsOf(w.v.y, ny);
-      if (cell == lastCell && sx == lastSx && sy == lastSy) continue;
-      lastCell = cell;
-      lastSx = sx;
-      lastSy = sy;
 #ifdef FT_FAULT_VOL_CAPSULE_NO_SHIFT
       vec3 os = o;  // planted: the candidates tested in the block's own frame, whatever tile the voxel is in
 #else
