@@ -230,9 +230,9 @@ FT_FUNC vec3 ftVolRayDirection(VolParams p, uint x, uint y) {
 // crosses (Amanatides & Woo 1987's traversal on the cells, unwrapped
 // coordinates); in each, the candidates (every capsule that can touch the
 // cell's voxels) are tested exactly, in the block frame shifted by the cell's
-// whole periods; the nearest hit wins once the walk passes it. The loop over candidates is
-// written out by the two callers (reference/exemplar_volume.cpp,
-// exemplar_volume_sample.comp.glsl), like the sampler's.
+// whole periods; the nearest hit wins once the walk passes it. The loop over
+// candidates is written out by the two callers (reference/
+// exemplar_volume.cpp, exemplar_volume_sample.comp.glsl), like the sampler's.
 
 FT_FUNC uint ftVolIdMode(VolParams p) { return uint(p.camDir.w + 0.5f); }
 

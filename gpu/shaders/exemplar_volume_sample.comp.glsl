@@ -47,7 +47,7 @@ void main() {
       ivec3 wv = ivec3(ftVolWrap(w.v.x, nx), ftVolWrap(w.v.y, ny), w.v.z);
       int cell = int(ftVolCellOf(wv, vol)), sx = ftVolPeriodsOf(w.v.x, nx), sy = ftVolPeriodsOf(w.v.y, ny);
 #ifdef FT_FAULT_VOL_CAPSULE_NO_SHIFT
-      vec3 os = o;  // planted: the candidates tested in the block's own frame, whatever tile the voxel is in
+      vec3 os = o;  // planted: the candidates tested in the block's own frame, whatever tile the cell is in
 #else
       vec3 os = o - vec3(float(sx) * P, float(sy) * P, 0.0f);
 #endif
