@@ -13,7 +13,6 @@
 
 namespace ft {
 
-namespace {
 glm::vec3 parseDirection(const std::string& option, const std::string& text) {
   std::stringstream ss(text);
   glm::vec3 v(0.0f);
@@ -23,7 +22,6 @@ glm::vec3 parseDirection(const std::string& option, const std::string& text) {
     throw InputError(fmt::format("{}: '{}' is not a non-zero vector x,y,z", option, text));
   return glm::normalize(v);
 }
-}  // namespace
 
 CLI::App* addPrtFrameCommand(CLI::App& app, PrtFrameCommandOptions& o) {
   CLI::App* c = app.add_subcommand(

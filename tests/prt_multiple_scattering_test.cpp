@@ -387,7 +387,35 @@ TEST(IirtfBake, SameBytesForAnyThreadCountAndTheReaderReadsIt) {
     EXPECT_EQ(f.segments, 64u);
     EXPECT_GE(f.cells, 2u);
     EXPECT_EQ(f.transfer.size(), f.cells * kIirtfMatrixSize);
+    EXPECT_EQ(f.version, 2);
+    ASSERT_EQ(f.stdError.size(), f.transfer.size());
+    for (size_t i = 0; i < f.stdError.size(); ++i)
+      if (f.transfer[i] != 0.0f) ASSERT_GT(f.stdError[i], 0.0f) << "entry " << i;  // a non-zero mean of ≥ 2 paths varies
+    EXPECT_EQ(f.header["relative_noise_by_band"].size(), size_t(FT_SH_BANDS));
     EXPECT_GT(f.header.value("mean_free_path", 0.0), 0.0);
+    {  // A version 1 file (no stderr section) reads with no noise estimate; an unknown version is refused by name.
+      const size_t headerEnd = bytes.find('\n');
+      nlohmann::json h = nlohmann::json::parse(bytes.substr(0, headerEnd));
+      const auto v1 = dir / fmt::format("ft_iirtf_test_v1_{}.bin", threads);
+      const auto write = [&](int version, size_t keep) {
+        h["version"] = version;
+        std::ofstream o(v1, std::ios::binary);
+        o << h.dump() << '\n' << bytes.substr(headerEnd + 1, keep);
+      };
+      write(1, bytes.size() - headerEnd - 1 - f.cells * kIirtfMatrixSize * 4);
+      const IirtfFile old = readIirtfFile(v1);
+      EXPECT_EQ(old.version, 1);
+      EXPECT_TRUE(old.stdError.empty());
+      EXPECT_EQ(old.transfer, f.transfer);
+      write(3, bytes.size() - headerEnd - 1);
+      try {
+        readIirtfFile(v1);
+        ADD_FAILURE() << "a version 3 file was read";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("\"version\": 3"), std::string::npos) << e.what();
+      }
+      std::filesystem::remove(v1);
+    }
     // A cut file names its size.
     std::filesystem::resize_file(out, std::filesystem::file_size(out) - 4);
     try {
