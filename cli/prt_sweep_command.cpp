@@ -94,6 +94,9 @@ CLI::App* addPrtSweepCommand(CLI::App& app, PrtSweepCommandOptions& o) {
   c->add_option("--lights", o.lights, "light directions / SG axes (Fibonacci cap, z >= 0.15)")->capture_default_str();
   c->add_option("--lambdas", o.lambdas, "light kinds: 0 = directional, > 0 = SG light of that sharpness")
       ->delimiter(',')->capture_default_str();
+  c->add_option("--alt-noise-cut", o.altNoiseCut,
+                "also render each configuration's PRT with this --ms-noise-cut (0: none) against the same path tracing")
+      ->capture_default_str();
   c->add_option("--limit", o.limit, "only the first N configurations of each fabric (0: all)")->capture_default_str();
   c->add_option("--json", o.json, "write every configuration and the summary as JSON");
   c->add_option("--csv", o.csv, "write one row per configuration and channel as CSV");
@@ -125,12 +128,20 @@ int runPrtSweepCommand(const PrtSweepCommandOptions& o, std::ostream& out) {
     fs.fabric = fabric;
     const auto t0 = Clock::now();
     PrtFrameScene scene(fs);
+    const bool alt = o.altNoiseCut >= 0.0;
     double sq[3] = {}, sqRel[3] = {}, sumRel = 0.0, prtSeconds = 0.0, ptSeconds = 0.0;
+    double sqAlt[3] = {}, sqRelAlt[3] = {}, sumRelAlt = 0.0;
     nlohmann::ordered_json rows = nlohmann::json::array();
     for (size_t c = 0; c < configs.size(); ++c) {
       const PrtFrameView& v = configs[c];
       const PrtFrameParts prt = scene.renderPrt(v);
       const PrtFrameImage pt = scene.renderPathTraced(v, fs.ptSamples, fs.maxDepth);
+      PrtFrameParts prtAlt;
+      if (alt) {
+        scene.setMsNoiseCut(o.altNoiseCut);
+        prtAlt = scene.renderPrt(v);
+        scene.setMsNoiseCut(fs.msNoiseCut);
+      }
       prtSeconds += prt.total.seconds, ptSeconds += pt.seconds;
       nlohmann::ordered_json row = {{"config", c},
                                     {"view", {v.wo.x, v.wo.y, v.wo.z}},
@@ -150,6 +161,13 @@ int runPrtSweepCommand(const PrtSweepCommandOptions& o, std::ostream& out) {
         row[fmt::format("average_prt_{}", name)] = a;
         row[fmt::format("average_pt_{}", name)] = b;
         line += fmt::format(" {} {:.5f}/{:.5f}", name, a, b);
+        if (alt) {
+          const double c2 = channelAverage(prtAlt.total, ch), relAlt = (c2 - b) / std::max(1e-30, std::abs(b));
+          finite = finite && std::isfinite(c2);
+          sqAlt[ch] += (c2 - b) * (c2 - b), sqRelAlt[ch] += relAlt * relAlt, sumRelAlt += relAlt / 3.0;
+          row[fmt::format("average_prt_alt_{}", name)] = c2;
+          line += fmt::format(" (alt {:.5f})", c2);
+        }
         if (csv.is_open())
           csv << fmt::format("{},{},{},{},{},{},{},{},{},{},{:.9g},{:.9g},{:.6g},{:.9g},{:.9g}\n", fabric, c, v.wo.x, v.wo.y,
                              v.wo.z, v.light.x, v.light.y, v.light.z, v.lambda, name, a, b, pt.averageStdError,
@@ -171,6 +189,17 @@ int runPrtSweepCommand(const PrtSweepCommandOptions& o, std::ostream& out) {
       line += fmt::format(" {} {:.5f} (relative {:.3f})", name, std::sqrt(sq[ch] / n), std::sqrt(sqRel[ch] / n));
     }
     summary["mean_rel_error"] = sumRel / n;
+    if (alt) {
+      line += fmt::format("; mean relative error {:+.3f}\n  with --ms-noise-cut {:g}:", sumRel / n, o.altNoiseCut);
+      for (int ch = 0; ch < 3; ++ch) {
+        summary[fmt::format("alt_rmse_{}", kChannel[ch])] = std::sqrt(sqAlt[ch] / n);
+        summary[fmt::format("alt_rmse_rel_{}", kChannel[ch])] = std::sqrt(sqRelAlt[ch] / n);
+        line += fmt::format(" {} {:.5f} (relative {:.3f})", kChannel[ch], std::sqrt(sqAlt[ch] / n), std::sqrt(sqRelAlt[ch] / n));
+      }
+      summary["alt_noise_cut"] = o.altNoiseCut;
+      summary["alt_mean_rel_error"] = sumRelAlt / n;
+      sumRel = sumRelAlt;  // printed last on the line below
+    }
     summary["prt_frame_seconds"] = prtSeconds;
     summary["path_traced_seconds"] = ptSeconds;
     summary["bake_seconds"] = scene.bakeSeconds();

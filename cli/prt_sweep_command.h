@@ -29,6 +29,7 @@ struct PrtSweepCommandOptions {
   int views = 41, lights = 4;             // 41 × 4 × 3 λ = 492 configurations (004 Fig. 13's count)
   std::vector<float> lambdas{0.0f, 30.0f, 150.0f};  // 0: directional
   int limit = 0;                          // > 0: only the first configurations (a reduced sweep)
+  double altNoiseCut = -1.0;              // ≥ 0: each configuration's PRT also with this --ms-noise-cut (same path tracing)
   std::string json, csv;
 };
 CLI::App* addPrtSweepCommand(CLI::App& app, PrtSweepCommandOptions& options);

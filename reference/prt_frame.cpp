@@ -86,6 +86,7 @@ struct PrtFrameScene::Impl {
   IirtfCells cells;
   std::vector<std::vector<double>> transfer;  // per cell, empty until baked
   std::vector<std::vector<double>> stdError;  // per cell, with transfer
+  std::vector<std::vector<double>> uncut;     // per cell, A_C before msNoiseCut (setMsNoiseCut cuts it again)
   uint32_t iirtfSeed = 0;                     // s.seed until reseedIirtf
   std::vector<std::vector<float>> ssdf;       // per block segment, empty until baked
   std::vector<float> angle;                   // R_k per block segment
@@ -123,6 +124,7 @@ struct PrtFrameScene::Impl {
     is.seed = iirtfSeed;
     for (uint32_t c : cellList) {
       IirtfCell cell = iirtfCellCpu(*scene, block, s.tiles, fabric, is, cells.members[c]);
+      uncut[c] = cell.a;
       if (s.msNoiseCut > 0.0) prtMsNoiseCut(cell, s.msNoiseCut);
       transfer[c] = std::move(cell.a);
       stdError[c] = std::move(cell.stdError);
@@ -160,6 +162,7 @@ PrtFrameScene::PrtFrameScene(const PrtFrameSettings& settings) : impl_(std::make
   m.cells = makeIirtfCells(m.block, m.ell.ell > 0.0 ? settings.cellFactor * m.ell.ell : m.block.period / 2.0);
   m.transfer.assign(m.cells.count(), {});
   m.stdError.assign(m.cells.count(), {});
+  m.uncut.assign(m.cells.count(), {});
   m.iirtfSeed = settings.seed;
   const size_t S = m.block.segments.size();
   m.ssdf.assign(S, {});
@@ -215,6 +218,21 @@ void PrtFrameScene::reseedIirtf(uint32_t seed) {
   m.iirtfSeed = seed;
   m.transfer.assign(m.cells.count(), {});
   m.stdError.assign(m.cells.count(), {});
+  m.uncut.assign(m.cells.count(), {});
+}
+
+void PrtFrameScene::setMsNoiseCut(double cut) {
+  Impl& m = *impl_;
+  if (!(std::isfinite(cut) && cut >= 0.0)) throw InputError(fmt::format("prt frame: --ms-noise-cut {} (≥ 0)", cut));
+  m.s.msNoiseCut = cut;
+  for (size_t c = 0; c < m.transfer.size(); ++c) {
+    if (m.uncut[c].empty()) continue;
+    IirtfCell cell;
+    cell.a = m.uncut[c];
+    cell.stdError = m.stdError[c];
+    if (cut > 0.0) prtMsNoiseCut(cell, cut);
+    m.transfer[c] = std::move(cell.a);
+  }
 }
 
 void PrtFrameScene::bakedTransfer(std::vector<float>& transfer, std::vector<float>& stdError) const {

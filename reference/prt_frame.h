@@ -114,6 +114,9 @@ class PrtFrameScene {
   // fresh IIRTF seed (drops the baked A_C: the next renderPrt bakes the cells it hits again).
   void setBands(int bands);
   void reseedIirtf(uint32_t seed);
+  // The noise-aware truncation of the next renderPrt (PrtFrameSettings::msNoiseCut; 0: off),
+  // applied to the baked cells again from their uncut A_C.
+  void setMsNoiseCut(double cut);
   // Standard errors (IirtfCell::stdError) of the baked cells, concatenated (cell order), with their A_C.
   void bakedTransfer(std::vector<float>& transfer, std::vector<float>& stdError) const;
   // What L̃^multi converges to as L and the paths grow, without SH: per pixel at the capsules'
