@@ -26,6 +26,21 @@ constexpr uint32_t kNoFiber = 0xFFFFFFFFu;
 bool finiteUnit(glm::vec3 v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::abs(glm::length(v) - 1.0f) < 1e-3f;
 }
+// A Monte Carlo pixel: its mean radiance from the sum L and Σ intensity² of `samples` draws, and
+// the variance of its mean intensity (for PrtFrameImage::averageStdError).
+void storePixel(PrtFrameImage& im, std::vector<double>& variance, size_t i, glm::dvec3 L, double sq, int samples) {
+  im.rgb[i] = glm::vec3(L / double(samples));
+  const double mean = (L.x + L.y + L.z) / 3.0 / double(samples);
+  if (samples > 1) variance[i] = std::max(0.0, sq / double(samples) - mean * mean) / double(samples - 1);
+}
+void finishImage(PrtFrameImage& im, const std::vector<uint8_t>& hit, const std::vector<double>& variance,
+                 Clock::time_point t0) {
+  im.covered = uint64_t(std::count(hit.begin(), hit.end(), uint8_t(1)));
+  double v = 0.0;
+  for (double x : variance) v += x;
+  im.averageStdError = std::sqrt(v) / double(im.rgb.size());
+  im.seconds = secondsSince(t0);
+}
 }  // namespace
 
 void checkPrtFrameSettings(const PrtFrameSettings& s) {
@@ -297,15 +312,9 @@ PrtFrameImage PrtFrameScene::renderTransfer(const PrtFrameView& view, int sample
       L += v;
       sq += std::pow((v.x + v.y + v.z) / 3.0, 2);
     }
-    im.rgb[i] = glm::vec3(L / double(samples));
-    const double mean = (L.x + L.y + L.z) / 3.0 / double(samples);
-    if (samples > 1) variance[i] = std::max(0.0, sq / double(samples) - mean * mean) / double(samples - 1);
+    storePixel(im, variance, i, L, sq, samples);
   });
-  im.covered = uint64_t(std::count(hit.begin(), hit.end(), uint8_t(1)));
-  double v = 0.0;
-  for (double x : variance) v += x;
-  im.averageStdError = std::sqrt(v) / double(im.rgb.size());
-  im.seconds = secondsSince(t0);
+  finishImage(im, hit, variance, t0);
   return im;
 }
 
@@ -418,15 +427,9 @@ PrtFrameImage PrtFrameScene::renderPathTraced(const PrtFrameView& view, int samp
       L += v;
       sq += std::pow((v.x + v.y + v.z) / 3.0, 2);
     }
-    im.rgb[i] = glm::vec3(L / double(samples));
-    const double mean = (L.x + L.y + L.z) / 3.0 / double(samples);
-    if (samples > 1) variance[i] = std::max(0.0, sq / double(samples) - mean * mean) / double(samples - 1);
+    storePixel(im, variance, i, L, sq, samples);
   });
-  im.covered = uint64_t(std::count(hit.begin(), hit.end(), uint8_t(1)));
-  double v = 0.0;
-  for (double x : variance) v += x;
-  im.averageStdError = std::sqrt(v) / double(im.rgb.size());
-  im.seconds = secondsSince(t0);
+  finishImage(im, hit, variance, t0);
   return im;
 }
 

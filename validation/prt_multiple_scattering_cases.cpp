@@ -37,6 +37,15 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 constexpr double kPi = 3.14159265358979323846;
 
+// The 2-fiber plain-weave block (64 segments) of the accumulate and stderr cases.
+Exemplar smallBlock() {
+  ExemplarSettings ex;
+  ex.fibersPerPly = 2;
+  ex.spansPerYarn = 4;
+  ex.subdivisions = 1;
+  return makePlainWeaveExemplar(ex);
+}
+
 CaseResult start(const std::string& name) {
   CaseResult r;
   r.name = name;
@@ -625,11 +634,7 @@ CaseResult runAccumulateCase(ValidationContext& ctx, const std::string& name) {
   CaseResult r = start(name);
   const FabricParams p = findFabricPreset("fleece").params();
   const auto t0 = Clock::now();
-  ExemplarSettings ex;
-  ex.fibersPerPly = 2;
-  ex.spansPerYarn = 4;
-  ex.subdivisions = 1;
-  const Exemplar block = makePlainWeaveExemplar(ex);
+  const Exemplar block = smallBlock();
   IirtfSettings is;
   is.tiles = 3;
   is.pathsPerCell = 4000;
@@ -705,11 +710,7 @@ CaseResult runStdErrorCase(ValidationContext&, const std::string& name) {
   CaseResult r = start(name);
   const auto t0 = Clock::now();
   const FabricParams p = findFabricPreset("fleece").params();
-  ExemplarSettings ex;
-  ex.fibersPerPly = 2;
-  ex.spansPerYarn = 4;
-  ex.subdivisions = 1;
-  const Exemplar block = makePlainWeaveExemplar(ex);
+  const Exemplar block = smallBlock();
   IirtfSettings is;
   is.tiles = 3;
   is.pathsPerCell = 600;  // 200 per segment
