@@ -120,7 +120,7 @@ class IirtfBake final : public Bake {
       throw std::runtime_error(fmt::format("bake {}: {} shards, expected {}", name(), shards.size(), C));
     uint64_t rays = ell_.rays, paths = 0;
     std::vector<std::byte> body;
-    body.reserve(S * 4 + C * (8 + kIirtfMatrixSize * 4));
+    body.reserve(S * 4 + C * (8 + 2 * kIirtfMatrixSize * 4));
     for (uint32_t c : cells_.cellOf) putU32(body, c);
     std::vector<std::byte> transfer, stdErr;
     for (size_t k = 0; k < C; ++k) {
@@ -217,9 +217,10 @@ IirtfFile readIirtfFile(const std::filesystem::path& path) {
   const nlohmann::json& h = r.header;
   if (!h.is_object() || h.value("format", "") != kIirtfFileFormat)
     throw InputError(fmt::format("{}: header: not a {} file", file, kIirtfFileFormat));
-  r.version = h.value("version", 0);
-  if (r.version != 1 && r.version != 2)
-    throw InputError(fmt::format("{}: header field \"version\": {} (this build reads 1 and 2)", file, h.value("version", 0)));
+  if (!h.contains("version") || !h["version"].is_number_integer() || (h["version"] != 1 && h["version"] != 2))
+    throw InputError(fmt::format("{}: header field \"version\": {} (this build reads 1 and 2)", file,
+                                 h.contains("version") ? h["version"].dump() : std::string("missing")));
+  r.version = h["version"].get<int>();
   auto field = [&](const char* name, uint64_t lo, uint64_t hi) -> uint64_t {
     if (!h.contains(name) || !h[name].is_number_unsigned())
       throw InputError(fmt::format("{}: header field \"{}\": missing or not an unsigned integer", file, name));
