@@ -14,6 +14,7 @@
 #include <bit>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -74,6 +75,8 @@ class IirtfBake final : public Bake {
 
   void prepare() override {
     checkIirtfSettings(s_);
+    if (s_.pathsPerCell < 2)
+      throw InputError(fmt::format("--paths: {} (≥ 2: the file holds each entry's standard error)", s_.pathsPerCell));
     if (bands_ < 1 || bands_ > FT_SH_BANDS) throw InputError(fmt::format("--bands: {} (1..{})", bands_, FT_SH_BANDS));
     fabricParams_ = findFabricPreset(fabric_).params();
     block_ = makePlainWeaveExemplar(ex_);
@@ -88,7 +91,7 @@ class IirtfBake final : public Bake {
 
   size_t shardCount() const override { return cells_.count(); }
 
-  static constexpr size_t kShardBytes = kIirtfMatrixSize * 4 + 16;
+  static constexpr size_t kShardBytes = 2 * kIirtfMatrixSize * 4 + 16;  // A_C, its standard error, paths, rays
 
   std::vector<std::byte> runShard(size_t shard) const override {
     if (shard >= shardCount()) throw std::out_of_range(fmt::format("no shard {}", shard));
@@ -99,6 +102,12 @@ class IirtfBake final : public Bake {
       if (!std::isfinite(c.a[i]))
         throw std::runtime_error(fmt::format("cell {}: entry {} of A_C is {}", shard, i, c.a[i]));
       putF32(out, float(c.a[i]));
+    }
+    for (size_t i = 0; i < kIirtfMatrixSize; ++i) {
+      if (!std::isfinite(c.stdError[i]))
+        throw std::runtime_error(fmt::format("cell {}: the standard error of entry {} of A_C is {} (a single path?)",
+                                             shard, i, c.stdError[i]));
+      putF32(out, float(c.stdError[i]));
     }
     putU64(out, c.paths);
     putU64(out, c.rays);
@@ -111,25 +120,31 @@ class IirtfBake final : public Bake {
       throw std::runtime_error(fmt::format("bake {}: {} shards, expected {}", name(), shards.size(), C));
     uint64_t rays = ell_.rays, paths = 0;
     std::vector<std::byte> body;
-    body.reserve(S * 4 + C * (8 + kIirtfMatrixSize * 4));
+    body.reserve(S * 4 + C * (8 + 2 * kIirtfMatrixSize * 4));
     for (uint32_t c : cells_.cellOf) putU32(body, c);
-    std::vector<std::byte> transfer;
+    std::vector<std::byte> transfer, stdErr;
     for (size_t k = 0; k < C; ++k) {
       if (shards[k].size() != kShardBytes)
         throw std::runtime_error(fmt::format("bake {}: shard {} has {} bytes, expected {}", name(), k, shards[k].size(),
                                              kShardBytes));
-      const std::byte* tail = shards[k].data() + kIirtfMatrixSize * 4;
+      const std::byte* se = shards[k].data() + kIirtfMatrixSize * 4;
+      const std::byte* tail = se + kIirtfMatrixSize * 4;
       const uint64_t p = getU64(tail);
       rays += getU64(tail + 8);
       paths += p;
       putU32(body, uint32_t(cells_.members[k].size()));
       putU32(body, uint32_t(p));
-      transfer.insert(transfer.end(), shards[k].data(), tail);
+      transfer.insert(transfer.end(), shards[k].data(), se);
+      stdErr.insert(stdErr.end(), se, tail);
     }
     body.insert(body.end(), transfer.begin(), transfer.end());
+    body.insert(body.end(), stdErr.begin(), stdErr.end());
+    std::vector<float> a(C * kIirtfMatrixSize), e(C * kIirtfMatrixSize);
+    for (size_t i = 0; i < a.size(); ++i) a[i] = getF32(transfer.data() + 4 * i), e[i] = getF32(stdErr.data() + 4 * i);
+    const IirtfNoiseByBand noise = iirtfNoiseByBand(a, e);
     nlohmann::ordered_json h;
     h["format"] = kIirtfFileFormat;
-    h["version"] = 1;
+    h["version"] = 2;
     h["bake"] = name();
     h["paper"] = "Khungurn et al. 2017 (004) §4.2: per-cell IIRTF in SH by path tracing, estimator §4.2c";
     h["exemplar"] = {{"pattern", "plain-weave"}, {"yarn", ex_.yarn}, {"set", ex_.sets},
@@ -152,15 +167,22 @@ class IirtfBake final : public Bake {
     h["rays"] = rays;
     h["max_depth"] = s_.maxDepth;
     h["seed"] = s_.seed;
+    h["relative_noise_by_band"] = noise.band;
+    h["relative_noise_by_band_pair"] = noise.pair;
     h["sh_convention"] = "real, no Condon-Shortley phase, j = l(l+1)+m (common/sh.h)";
     h["layout"] = "after this line, little-endian: cell_of S×uint32; cells C×(uint32 segments, uint32 paths); "
-                  "transfer C×3×36×36 float32 [channel][j1][j0] (c_T = A_C c_d)";
+                  "transfer C×3×36×36 float32 [channel][j1][j0] (c_T = A_C c_d); stderr C×3×36×36 float32, the standard "
+                  "error of each transfer entry (same layout); relative_noise_by_band[l] = sqrt(sum SE^2 / sum a^2) over "
+                  "the entries with max(l1, l0) = l, relative_noise_by_band_pair[l1*6+l0] per band pair";
     std::ofstream f(out, std::ios::binary | std::ios::trunc);
     if (!f) throw InputError(fmt::format("--out: cannot write '{}'", out.string()));
     f << h.dump() << '\n';
     f.write(reinterpret_cast<const char*>(body.data()), std::streamsize(body.size()));
     f.close();
     if (!f) throw InputError(fmt::format("--out: writing '{}' failed", out.string()));
+    std::string line = "relative noise of A_C by band l = max(l1, l0) (sqrt(sum SE^2 / sum a^2)):";
+    for (int l = 0; l < FT_SH_BANDS; ++l) line += fmt::format(" l={} {:.3g}", l, noise.band[size_t(l)]);
+    std::cout << line << '\n';
   }
 
  private:
@@ -193,8 +215,12 @@ IirtfFile readIirtfFile(const std::filesystem::path& path) {
     throw InputError(fmt::format("{}: byte 0: the header line is not JSON ({})", file, e.what()));
   }
   const nlohmann::json& h = r.header;
-  if (!h.is_object() || h.value("format", "") != kIirtfFileFormat || h.value("version", 0) != 1)
-    throw InputError(fmt::format("{}: header: not a {} version 1 file", file, kIirtfFileFormat));
+  if (!h.is_object() || h.value("format", "") != kIirtfFileFormat)
+    throw InputError(fmt::format("{}: header: not a {} file", file, kIirtfFileFormat));
+  if (!h.contains("version") || !h["version"].is_number_integer() || (h["version"] != 1 && h["version"] != 2))
+    throw InputError(fmt::format("{}: header field \"version\": {} (this build reads 1 and 2)", file,
+                                 h.contains("version") ? h["version"].dump() : std::string("missing")));
+  r.version = h["version"].get<int>();
   auto field = [&](const char* name, uint64_t lo, uint64_t hi) -> uint64_t {
     if (!h.contains(name) || !h[name].is_number_unsigned())
       throw InputError(fmt::format("{}: header field \"{}\": missing or not an unsigned integer", file, name));
@@ -207,7 +233,7 @@ IirtfFile readIirtfFile(const std::filesystem::path& path) {
   r.bands = int(field("bands", 1, FT_SH_BANDS));
   field("coefficients", FT_SH_COEFFS, FT_SH_COEFFS);
   const size_t S = r.segments, C = r.cells;
-  const size_t expected = S * 4 + C * 8 + C * kIirtfMatrixSize * 4;
+  const size_t expected = S * 4 + C * 8 + C * kIirtfMatrixSize * 4 * (r.version == 2 ? 2 : 1);
   std::error_code ec;
   const uintmax_t total = std::filesystem::file_size(path, ec);
   if (ec || total < line.size() + 1 || total - (line.size() + 1) != expected)
@@ -234,6 +260,41 @@ IirtfFile readIirtfFile(const std::filesystem::path& path) {
       throw InputError(fmt::format("{}: section transfer, cell {}, entry {}: {} is not finite", file,
                                    i / kIirtfMatrixSize, i % kIirtfMatrixSize, r.transfer[i]));
   }
+  if (r.version == 2) {
+    r.stdError.resize(C * kIirtfMatrixSize);
+    for (size_t i = 0; i < r.stdError.size(); ++i, at += 4) {
+      r.stdError[i] = getF32(at);
+      if (!std::isfinite(r.stdError[i]) || r.stdError[i] < 0.0f)
+        throw InputError(fmt::format("{}: section stderr, cell {}, entry {}: {} is not a finite value ≥ 0", file,
+                                     i / kIirtfMatrixSize, i % kIirtfMatrixSize, r.stdError[i]));
+    }
+  }
+  return r;
+}
+
+IirtfNoiseByBand iirtfNoiseByBand(const std::vector<float>& transfer, const std::vector<float>& stdError) {
+  if (transfer.size() != stdError.size() || transfer.size() % kIirtfMatrixSize != 0)
+    throw std::invalid_argument(fmt::format("iirtfNoiseByBand: {} transfer and {} standard error values", transfer.size(),
+                                            stdError.size()));
+  constexpr int B = FT_SH_BANDS, J = FT_SH_COEFFS;
+  std::vector<double> se2(B * B, 0.0), a2(B * B, 0.0);
+  for (size_t i = 0; i < transfer.size(); ++i) {  // the pair (l1, l0) of entry i; iirtfEntryBand is their max
+    const int e = int(i % size_t(J * J));
+    const int l1 = iirtfEntryBand(size_t(e / J) * J), l0 = iirtfEntryBand(size_t(e % J));
+    se2[size_t(l1 * B + l0)] += double(stdError[i]) * stdError[i];
+    a2[size_t(l1 * B + l0)] += double(transfer[i]) * transfer[i];
+  }
+  IirtfNoiseByBand r;
+  r.pair.resize(B * B);
+  r.band.assign(B, 0.0);
+  std::vector<double> bs(B, 0.0), ba(B, 0.0);
+  for (int l1 = 0; l1 < B; ++l1)
+    for (int l0 = 0; l0 < B; ++l0) {
+      const size_t p = size_t(l1 * B + l0);
+      r.pair[p] = a2[p] > 0.0 ? std::sqrt(se2[p] / a2[p]) : 0.0;
+      bs[size_t(std::max(l1, l0))] += se2[p], ba[size_t(std::max(l1, l0))] += a2[p];
+    }
+  for (int l = 0; l < B; ++l) r.band[size_t(l)] = ba[size_t(l)] > 0.0 ? std::sqrt(bs[size_t(l)] / ba[size_t(l)]) : 0.0;
   return r;
 }
 

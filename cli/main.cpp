@@ -32,6 +32,7 @@
 #include "validation/harness.h"
 #include "cli/knit_command.h"
 #include "cli/prt_frame_command.h"
+#include "cli/prt_sweep_command.h"
 #include "cli/render_command.h"
 #include "validation/report.h"
 
@@ -463,6 +464,10 @@ int main(int argc, char** argv) {
   CLI::App* bake = ft::addBakeCommand(app, bakeOptions);
   ft::PrtFrameCommandOptions prtFrameOptions;
   CLI::App* prtFrame = ft::addPrtFrameCommand(app, prtFrameOptions);
+  ft::PrtSweepCommandOptions prtSweepOptions;
+  CLI::App* prtSweep = ft::addPrtSweepCommand(app, prtSweepOptions);
+  ft::PrtMsProbeCommandOptions prtMsProbeOptions;
+  CLI::App* prtMsProbe = ft::addPrtMsProbeCommand(app, prtMsProbeOptions);
 
   try {
     app.parse(argc, argv);
@@ -475,6 +480,8 @@ int main(int argc, char** argv) {
     if (compare->parsed()) return ft::runCompareCommand(compareOptions, std::cout);
     if (bake->parsed()) return ft::runBakeCommand(bakeOptions, std::cout);
     if (prtFrame->parsed()) return ft::runPrtFrameCommand(prtFrameOptions, std::cout);
+    if (prtSweep->parsed()) return ft::runPrtSweepCommand(prtSweepOptions, std::cout);
+    if (prtMsProbe->parsed()) return ft::runPrtMsProbeCommand(prtMsProbeOptions, std::cout);
     if (validate->parsed()) {
       if (!modelPath.empty()) vo.model = modelPath;
       for (int i = 0; i < argc; ++i) vo.commandLine += (i ? " " : "") + shellQuote(argv[i]);

@@ -13,7 +13,6 @@
 
 namespace ft {
 
-namespace {
 glm::vec3 parseDirection(const std::string& option, const std::string& text) {
   std::stringstream ss(text);
   glm::vec3 v(0.0f);
@@ -23,7 +22,6 @@ glm::vec3 parseDirection(const std::string& option, const std::string& text) {
     throw InputError(fmt::format("{}: '{}' is not a non-zero vector x,y,z", option, text));
   return glm::normalize(v);
 }
-}  // namespace
 
 CLI::App* addPrtFrameCommand(CLI::App& app, PrtFrameCommandOptions& o) {
   CLI::App* c = app.add_subcommand(
@@ -51,6 +49,10 @@ CLI::App* addPrtFrameCommand(CLI::App& app, PrtFrameCommandOptions& o) {
   c->add_option("--bands", f.bands, "SH bands L + 1 of multiple scattering")->capture_default_str();
   c->add_option("--cell-factor", f.cellFactor, "IIRTF cell side in mean free paths")->capture_default_str();
   c->add_option("--paths-per-cell", f.pathsPerCell, "IIRTF paths per cell (004: 50,000)")->capture_default_str();
+  c->add_option("--ms-noise-cut", f.msNoiseCut,
+                "noise-aware truncation of A_C: per cell, the SH order cut below the first band whose relative noise "
+                "exceeds this (0: off; docs/prt-multiple-scattering.md)")
+      ->capture_default_str();
   c->add_option("--spp", f.ptSamples, "path-traced samples per pixel")->capture_default_str();
   c->add_option("--max-depth", f.maxDepth, "scattering events per path")->capture_default_str();
   c->add_option("--seed", f.seed)->capture_default_str();

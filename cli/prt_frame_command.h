@@ -26,6 +26,9 @@ struct PrtFrameCommandOptions {
   std::string volumeIds;                // "" : the settings' default; midpoint | capsule
 };
 
+// "x,y,z" → the unit vector; InputError naming the option for anything else or zero.
+glm::vec3 parseDirection(const std::string& option, const std::string& text);
+
 CLI::App* addPrtFrameCommand(CLI::App& app, PrtFrameCommandOptions& options);
 // Returns the exit status; throws InputError for bad input.
 int runPrtFrameCommand(const PrtFrameCommandOptions& options, std::ostream& out);

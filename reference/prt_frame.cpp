@@ -26,6 +26,21 @@ constexpr uint32_t kNoFiber = 0xFFFFFFFFu;
 bool finiteUnit(glm::vec3 v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::abs(glm::length(v) - 1.0f) < 1e-3f;
 }
+// A Monte Carlo pixel: its mean radiance from the sum L and Σ intensity² of `samples` draws, and
+// the variance of its mean intensity (for PrtFrameImage::averageStdError).
+void storePixel(PrtFrameImage& im, std::vector<double>& variance, size_t i, glm::dvec3 L, double sq, int samples) {
+  im.rgb[i] = glm::vec3(L / double(samples));
+  const double mean = (L.x + L.y + L.z) / 3.0 / double(samples);
+  if (samples > 1) variance[i] = std::max(0.0, sq / double(samples) - mean * mean) / double(samples - 1);
+}
+void finishImage(PrtFrameImage& im, const std::vector<uint8_t>& hit, const std::vector<double>& variance,
+                 Clock::time_point t0) {
+  im.covered = uint64_t(std::count(hit.begin(), hit.end(), uint8_t(1)));
+  double v = 0.0;
+  for (double x : variance) v += x;
+  im.averageStdError = std::sqrt(v) / double(im.rgb.size());
+  im.seconds = secondsSince(t0);
+}
 }  // namespace
 
 void checkPrtFrameSettings(const PrtFrameSettings& s) {
@@ -43,6 +58,7 @@ void checkPrtFrameSettings(const PrtFrameSettings& s) {
   need(s.bands >= 1 && s.bands <= FT_SH_BANDS, "--bands (1..FT_SH_BANDS)", s.bands);
   need(std::isfinite(s.cellFactor) && s.cellFactor > 0.0, "--cell-factor (> 0)", s.cellFactor);
   need(s.pathsPerCell >= 1, "--paths-per-cell (≥ 1)", s.pathsPerCell);
+  need(std::isfinite(s.msNoiseCut) && s.msNoiseCut >= 0.0, "--ms-noise-cut (≥ 0)", s.msNoiseCut);
   need(s.ellPaths >= 1, "--ell-paths (≥ 1)", s.ellPaths);
   need(s.msThetaINodes >= 2 && s.msPhiNodes >= 2, "C_S nodes (≥ 2)", std::min(s.msThetaINodes, s.msPhiNodes));
   need(s.ptSamples >= 1, "--spp (≥ 1)", s.ptSamples);
@@ -86,6 +102,9 @@ struct PrtFrameScene::Impl {
   MeanFreePath ell;
   IirtfCells cells;
   std::vector<std::vector<double>> transfer;  // per cell, empty until baked
+  std::vector<std::vector<double>> stdError;  // per cell, with transfer
+  std::vector<std::vector<double>> uncut;     // per cell, A_C before msNoiseCut (setMsNoiseCut cuts it again)
+  uint32_t iirtfSeed = 0;                     // s.seed until reseedIirtf
   std::vector<std::vector<float>> ssdf;       // per block segment, empty until baked
   std::vector<float> angle;                   // R_k per block segment
   PrtSsSegments sosg;                         // weights of every block segment (zeros until baked)
@@ -119,8 +138,14 @@ struct PrtFrameScene::Impl {
     is.tiles = s.tiles;
     is.pathsPerCell = s.pathsPerCell;
     is.maxDepth = s.maxDepth;
-    is.seed = s.seed;
-    for (uint32_t c : cellList) transfer[c] = iirtfCellCpu(*scene, block, s.tiles, fabric, is, cells.members[c]).a;
+    is.seed = iirtfSeed;
+    for (uint32_t c : cellList) {
+      IirtfCell cell = iirtfCellCpu(*scene, block, s.tiles, fabric, is, cells.members[c]);
+      uncut[c] = cell.a;
+      if (s.msNoiseCut > 0.0) prtMsNoiseCut(cell, s.msNoiseCut);
+      transfer[c] = std::move(cell.a);
+      stdError[c] = std::move(cell.stdError);
+    }
     svfBaked += segs.size();
     cellsBaked += cellList.size();
     bakeSeconds += secondsSince(t0);
@@ -153,6 +178,9 @@ PrtFrameScene::PrtFrameScene(const PrtFrameSettings& settings) : impl_(std::make
   // ℓ̃ = factor ℓ; no scattering measured (ℓ = 0): one cell per half period.
   m.cells = makeIirtfCells(m.block, m.ell.ell > 0.0 ? settings.cellFactor * m.ell.ell : m.block.period / 2.0);
   m.transfer.assign(m.cells.count(), {});
+  m.stdError.assign(m.cells.count(), {});
+  m.uncut.assign(m.cells.count(), {});
+  m.iirtfSeed = settings.seed;
   const size_t S = m.block.segments.size();
   m.ssdf.assign(S, {});
   m.angle.assign(S, 0.0f);
@@ -195,6 +223,101 @@ PrtFrameData PrtFrameScene::gpuData() const {
   for (size_t c = 0; c < m.cells.count(); ++c)
     for (size_t j = 0; j < m.transfer[c].size(); ++j) d.transfer[c * kIirtfMatrixSize + j] = float(m.transfer[c][j]);
   return d;
+}
+
+void PrtFrameScene::setBands(int bands) {
+  if (bands < 1 || bands > FT_SH_BANDS) throw InputError(fmt::format("prt frame: --bands {} (1..{})", bands, FT_SH_BANDS));
+  impl_->s.bands = bands;
+}
+
+void PrtFrameScene::reseedIirtf(uint32_t seed) {
+  Impl& m = *impl_;
+  m.iirtfSeed = seed;
+  m.transfer.assign(m.cells.count(), {});
+  m.stdError.assign(m.cells.count(), {});
+  m.uncut.assign(m.cells.count(), {});
+}
+
+void PrtFrameScene::setMsNoiseCut(double cut) {
+  Impl& m = *impl_;
+  if (!(std::isfinite(cut) && cut >= 0.0)) throw InputError(fmt::format("prt frame: --ms-noise-cut {} (≥ 0)", cut));
+  m.s.msNoiseCut = cut;
+  for (size_t c = 0; c < m.transfer.size(); ++c) {
+    if (m.uncut[c].empty()) continue;
+    IirtfCell cell;
+    cell.a = m.uncut[c];
+    cell.stdError = m.stdError[c];
+    if (cut > 0.0) prtMsNoiseCut(cell, cut);
+    m.transfer[c] = std::move(cell.a);
+  }
+}
+
+void PrtFrameScene::bakedTransfer(std::vector<float>& transfer, std::vector<float>& stdError) const {
+  transfer.clear(), stdError.clear();
+  for (size_t c = 0; c < impl_->transfer.size(); ++c) {
+    transfer.insert(transfer.end(), impl_->transfer[c].begin(), impl_->transfer[c].end());
+    stdError.insert(stdError.end(), impl_->stdError[c].begin(), impl_->stdError[c].end());
+  }
+}
+
+PrtFrameImage PrtFrameScene::renderTransfer(const PrtFrameView& view, int samples, TransferOrigin origin) const {
+  if (samples < 1) throw InputError(fmt::format("prt frame: transfer probe with {} samples", samples));
+  const Impl& m = *impl_;
+  const VolParams rp = rays(view);
+  const auto t0 = Clock::now();
+  const int W = m.s.width, H = m.s.height;
+  const size_t S = m.block.segments.size();
+  PrtFrameImage im;
+  im.width = W, im.height = H;
+  im.rgb.assign(size_t(W) * size_t(H), glm::vec3(0.0f));
+  std::vector<uint8_t> hit(im.rgb.size(), 0);
+  std::vector<double> variance(im.rgb.size(), 0.0);  // of the pixel's mean intensity
+  ShadingParams light{};
+  light.fabric = m.fabric;
+  light.lightIrradiance[0] = vec4(1.0f);
+  light.flags = uvec4(1u, FT_SHADING_KHUNGURN, 0u, 0u);
+  tbb::parallel_for(size_t(0), im.rgb.size(), [&](size_t i) {
+    const uint32_t x = uint32_t(i % size_t(W)), y = uint32_t(i / size_t(W));
+    const glm::vec3 org = ftVolRayOrigin(rp, x, y), dir = ftVolRayDirection(rp, x, y);
+    IirtfScene::Hit first;
+    if (!m.scene->intersect(org, dir, kNoFiber, first)) return;
+    hit[i] = 1;
+    const ExemplarSegment& g = m.scene->segments()[first.segment];
+    const glm::vec3 t = glm::normalize(g.b - g.a), p = org + first.t * dir;
+    const std::vector<uint32_t>& members = m.cells.members[m.cells.cellOf[first.segment % S]];
+    glm::dvec3 L(0.0);
+    double sq = 0.0;
+    uint64_t rays = 0;
+    for (int j = 0; j < samples; ++j) {
+      RandomStream rng(uint32_t(i), uint32_t(j), m.s.seed ^ 0x7452u);
+      glm::vec3 w0 = view.light;
+      if (view.lambda > 0.0f) {
+        const double u0 = rng.next(), u1 = rng.next();
+        w0 = glm::vec3(sampleSgDirection(glm::dvec3(view.light), double(view.lambda), u0, u1));
+      }
+      light.lightDirection[0] = vec4(w0, 0.0f);
+      const FiberScatter sc(light, t, first.normal, -dir);
+      if (!sc.scatters()) break;
+      const glm::vec3 wi = sc.sample(rng);
+      glm::vec3 from = p;
+      uint32_t fiber = g.fiber;
+      if (origin != TransferOrigin::Hit) {
+        const uint32_t k = origin == TransferOrigin::Midpoint
+                               ? uint32_t(first.segment % S)
+                               : members[std::min(members.size() - 1, size_t(double(rng.next()) * double(members.size())))];
+        const ExemplarSegment& own = m.scene->segments()[centreCopy(m.s.tiles) * S + k];
+        from = own.mid(), fiber = own.fiber;
+      }
+      const glm::dvec3 v = glm::dvec3(sc.weight(wi)) * iirtfPathRadiance(*m.scene, m.fabric, 1.0, m.s.maxDepth, from,
+                                                                         fiber, w0, wi, uint32_t(i), uint32_t(j),
+                                                                         m.s.seed ^ 0x7453u, rays);
+      L += v;
+      sq += std::pow((v.x + v.y + v.z) / 3.0, 2);
+    }
+    storePixel(im, variance, i, L, sq, samples);
+  });
+  finishImage(im, hit, variance, t0);
+  return im;
 }
 
 VolParams PrtFrameScene::rays(const PrtFrameView& view) const {
@@ -306,15 +429,9 @@ PrtFrameImage PrtFrameScene::renderPathTraced(const PrtFrameView& view, int samp
       L += v;
       sq += std::pow((v.x + v.y + v.z) / 3.0, 2);
     }
-    im.rgb[i] = glm::vec3(L / double(samples));
-    const double mean = (L.x + L.y + L.z) / 3.0 / double(samples);
-    if (samples > 1) variance[i] = std::max(0.0, sq / double(samples) - mean * mean) / double(samples - 1);
+    storePixel(im, variance, i, L, sq, samples);
   });
-  im.covered = uint64_t(std::count(hit.begin(), hit.end(), uint8_t(1)));
-  double v = 0.0;
-  for (double x : variance) v += x;
-  im.averageStdError = std::sqrt(v) / double(im.rgb.size());
-  im.seconds = secondsSince(t0);
+  finishImage(im, hit, variance, t0);
   return im;
 }
 

@@ -45,6 +45,8 @@ struct PrtFrameSettings {
   int bands = 5;                  // SH bands L + 1 of multiple scattering (004 Table 1: L = 4 for Fleece)
   double cellFactor = 2.0;        // ℓ̃ = cellFactor ℓ (004 §4.2: ℓ … 2ℓ)
   int pathsPerCell = 2000;        // IIRTF paths per cell (004: 50,000)
+  double msNoiseCut = 0.0;        // > 0: per cell, the SH order cut below the first band l whose relative
+                                  // noise (IirtfCell::stdError, over max(l1, l0) = l) exceeds this; 0: off
   int ellPaths = 300;             // paths of the ℓ estimate
   int msThetaINodes = 1024, msPhiNodes = 256;  // C_S quadrature
   int ptSamples = 16;             // path-traced samples per pixel
@@ -110,6 +112,23 @@ class PrtFrameScene {
   // Path tracing: maxDepth 1 gives single scattering alone (next-event estimation at the first hit).
   PrtFrameImage renderPathTraced(const PrtFrameView& view, int samples, int maxDepth) const;
   PrtFrameData gpuData() const;
+  // Multiple-scattering probes (docs/prt-multiple-scattering.md, "Noise or bias"):
+  // the SH bands of the next renderPrt (1..FT_SH_BANDS; the IIRTF bakes are kept), and a
+  // fresh IIRTF seed (drops the baked A_C: the next renderPrt bakes the cells it hits again).
+  void setBands(int bands);
+  void reseedIirtf(uint32_t seed);
+  // The noise-aware truncation of the next renderPrt (PrtFrameSettings::msNoiseCut; 0: off),
+  // applied to the baked cells again from their uncut A_C.
+  void setMsNoiseCut(double cut);
+  // Standard errors (IirtfCell::stdError) of the baked cells, concatenated (cell order), with their A_C.
+  void bakedTransfer(std::vector<float>& transfer, std::vector<float>& stdError) const;
+  // What L̃^multi converges to as L and the paths grow, without SH: per pixel at the capsules'
+  // Embree first hit on segment k (tangent t_k, ω_o), ω_i drawn from the BCSDF, the path radiance
+  // T(ω_d, ω_i) of reference/prt_multiple_scattering.h from `origin`: Hit = the hit point (the
+  // path-traced indirect light), Midpoint = μ_k (004 §4.2b's point), Cell = μ_k′ of a random
+  // segment k′ of k's cell (the cell average of 004 §4.2b). The SG light by sampling ω_d from G/M.
+  enum class TransferOrigin { Hit, Midpoint, Cell };
+  PrtFrameImage renderTransfer(const PrtFrameView& view, int samples, TransferOrigin origin) const;
   double bakeSeconds() const;  // all lazy bakes so far (and ℓ, the tables, the volume)
   double meanFreePath() const;
   size_t cellCount() const;

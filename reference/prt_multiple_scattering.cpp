@@ -314,16 +314,22 @@ void iirtfDirections(double u0, double u1, double u2, double u3, glm::dvec3& w0,
   w1 = glm::dvec3(r1 * std::cos(p1), r1 * std::sin(p1), z1);
 }
 
-void iirtfAccumulate(std::span<double> sum, glm::dvec3 T, glm::dvec3 w0, glm::dvec3 w1) {
+void iirtfAccumulate(std::span<double> sum, glm::dvec3 T, glm::dvec3 w0, glm::dvec3 w1, std::span<double> sumSq) {
   if (T.x == 0.0 && T.y == 0.0 && T.z == 0.0) return;
   const ShCoeffs y0 = shEval(w0), y1 = shEval(w1);
   const double inv = (2.0 * kPi) * (4.0 * kPi);  // 1 / (p(ω0) p(ω1))
+  const bool second = !sumSq.empty();
   for (int ch = 0; ch < 3; ++ch) {
     const double t = T[ch] * inv;
     double* row = &sum[size_t(ch) * kJ * kJ];
+    double* rowSq = second ? &sumSq[size_t(ch) * kJ * kJ] : nullptr;
     for (int j1 = 0; j1 < kJ; ++j1) {
       const double a = t * y1.c[j1];
-      for (int j0 = 0; j0 < kJ; ++j0) row[j1 * kJ + j0] += a * y0.c[j0];
+      for (int j0 = 0; j0 < kJ; ++j0) {
+        const double term = a * y0.c[j0];
+        row[j1 * kJ + j0] += term;
+        if (second) rowSq[j1 * kJ + j0] += term * term;
+      }
     }
   }
 }
@@ -343,7 +349,7 @@ namespace {
 // Paths [first, first + count) of block segment k, summed in path order.
 void segmentRange(const IirtfScene& scene, const Exemplar& block, int tiles, const FabricParams& fabric,
                   const IirtfSettings& s, uint32_t k, uint32_t first, uint32_t count, std::span<double> sum,
-                  uint64_t& rays) {
+                  std::span<double> sumSq, uint64_t& rays) {
   const size_t S = block.segments.size();
   const ExemplarSegment& own = scene.segments()[centreCopy(tiles) * S + k];
   const glm::vec3 x = own.mid();
@@ -354,7 +360,7 @@ void segmentRange(const IirtfScene& scene, const Exemplar& block, int tiles, con
     iirtfDirections(u0, u1, u2, u3, w0, w1);
     const glm::dvec3 T = iirtfPathRadiance(scene, fabric, s.albedo, s.maxDepth, x, own.fiber, glm::vec3(w0),
                                            glm::vec3(w1), k, i, s.seed, rays);
-    iirtfAccumulate(sum, T, w0, w1);
+    iirtfAccumulate(sum, T, w0, w1, sumSq);
   }
 }
 
@@ -383,6 +389,7 @@ IirtfCell iirtfCellCpu(const IirtfScene& scene, const Exemplar& block, int tiles
                        const IirtfSettings& s, const std::vector<uint32_t>& members) {
   IirtfCell cell;
   cell.a.assign(kIirtfMatrixSize, 0.0);
+  cell.stdError.assign(kIirtfMatrixSize, 0.0);
   if (members.empty()) return cell;
   const size_t C = members.size();
   const uint32_t perSegment = uint32_t((size_t(s.pathsPerCell) + C - 1) / C);
@@ -391,20 +398,61 @@ IirtfCell iirtfCellCpu(const IirtfScene& scene, const Exemplar& block, int tiles
     if (k >= block.segments.size()) throw std::out_of_range(fmt::format("IIRTF cell: segment {} of {}", k, block.segments.size()));
     for (uint32_t f = 0; f < perSegment; f += kPathBlock) tasks.push_back({k, f, std::min(kPathBlock, perSegment - f)});
   }
-  std::vector<std::vector<double>> sums(tasks.size());
+  std::vector<std::vector<double>> sums(tasks.size()), sumsSq(tasks.size());
   std::vector<uint64_t> rays(tasks.size(), 0);
   tbb::parallel_for(size_t(0), tasks.size(), [&](size_t t) {
     sums[t].assign(kIirtfMatrixSize, 0.0);
-    segmentRange(scene, block, tiles, fabric, s, tasks[t].k, tasks[t].first, tasks[t].count, sums[t], rays[t]);
+    sumsSq[t].assign(kIirtfMatrixSize, 0.0);
+    segmentRange(scene, block, tiles, fabric, s, tasks[t].k, tasks[t].first, tasks[t].count, sums[t], sumsSq[t],
+                 rays[t]);
   });
   // 004 §4.2c: (1/|C|) T Y Y / (p(k) p(ω0) p(ω1)) with p(k) = 1/|C|, averaged over the paths.
-  for (size_t t = 0; t < tasks.size(); ++t) {
-    for (size_t i = 0; i < kIirtfMatrixSize; ++i) cell.a[i] += sums[t][i];
-    cell.rays += rays[t];
+  // The variance: per segment (the tasks of a segment are consecutive) when it has ≥ 2 paths.
+  const double n = double(perSegment);
+  std::vector<double> segSum(kIirtfMatrixSize), segSq(kIirtfMatrixSize), pooledSq(kIirtfMatrixSize, 0.0);
+  for (size_t t = 0; t < tasks.size();) {
+    std::fill(segSum.begin(), segSum.end(), 0.0);
+    std::fill(segSq.begin(), segSq.end(), 0.0);
+    const uint32_t k = tasks[t].k;
+    for (; t < tasks.size() && tasks[t].k == k; ++t) {
+      for (size_t i = 0; i < kIirtfMatrixSize; ++i)
+        cell.a[i] += sums[t][i], segSum[i] += sums[t][i], segSq[i] += sumsSq[t][i];  // a: task order, as before
+      cell.rays += rays[t];
+    }
+    for (size_t i = 0; i < kIirtfMatrixSize; ++i) {
+      pooledSq[i] += segSq[i];
+      if (perSegment >= 2) cell.stdError[i] += std::max(0.0, segSq[i] - segSum[i] * segSum[i] / n) / ((n - 1.0) * n);
+    }
   }
   cell.paths = uint64_t(perSegment) * C;
-  for (double& v : cell.a) v /= double(cell.paths);
+  const double N = double(cell.paths);
+  for (size_t i = 0; i < kIirtfMatrixSize; ++i) {
+    if (perSegment >= 2) {
+      cell.stdError[i] = std::sqrt(cell.stdError[i]) / (FT_FAULT_MS_STDERR_CELL_COUNT_ON ? 1.0 : double(C));
+    } else if (cell.paths >= 2) {
+      const double mean = cell.a[i] / N;
+      cell.stdError[i] = std::sqrt(std::max(0.0, pooledSq[i] - N * mean * mean) / ((N - 1.0) * N));
+    } else {
+      cell.stdError[i] = std::numeric_limits<double>::infinity();
+    }
+  }
+  for (double& v : cell.a) v /= N;
   return cell;
+}
+
+int prtMsNoiseCut(IirtfCell& cell, double cut) {
+  if (cell.a.size() != kIirtfMatrixSize || cell.stdError.size() != kIirtfMatrixSize)
+    throw std::invalid_argument(fmt::format("prtMsNoiseCut: {} entries, {} standard errors", cell.a.size(), cell.stdError.size()));
+  double se2[FT_SH_BANDS] = {}, a2[FT_SH_BANDS] = {};
+  for (size_t i = 0; i < kIirtfMatrixSize; ++i) {
+    const int l = iirtfEntryBand(i);
+    se2[l] += cell.stdError[i] * cell.stdError[i], a2[l] += cell.a[i] * cell.a[i];
+  }
+  int keep = 1;
+  while (keep < FT_SH_BANDS && !(se2[keep] > cut * cut * a2[keep])) ++keep;
+  for (size_t i = 0; i < kIirtfMatrixSize; ++i)
+    if (iirtfEntryBand(i) >= keep) cell.a[i] = 0.0;
+  return keep;
 }
 
 glm::dvec3 prtMsRadianceCpu(const PrtMsTables& tables, std::span<const double> a, int bands, const PrtMsQuery& q) {

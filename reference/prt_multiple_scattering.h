@@ -11,6 +11,8 @@
 //   * prtMsVgloFilterCpu / prtMsVgloSampleCpu: V̄_glo (004 §5.3.2), the
 //     normalised Gaussian filter of a V_glo grid and 004's CPU Monte Carlo.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -23,6 +25,11 @@
 #include "reference/exemplar.h"
 
 namespace ft {
+
+// Planted fault (validation/faults.def), CPU only: the IIRTF bake's standard error without the
+// stratification factor 1/|C| (reference/prt_multiple_scattering.cpp, iirtfCellCpu).
+inline bool ftFaultMsStderrCellCount = false;
+#define FT_FAULT_MS_STDERR_CELL_COUNT_ON ::ft::ftFaultMsStderrCellCount
 
 // ---- tables (004 §4.3) --------------------------------------------------------
 struct PrtMsTables {
@@ -40,6 +47,12 @@ std::vector<double> prtMsPhiCpu(const FabricParams& fabric, int thetaINodes, int
 // An IIRTF matrix: [channel][j1][j0], 36 × 36 per channel (entry a[j0, j1]
 // of 004 §4.2a at row j1, column j0: c_T = A c_d).
 inline constexpr size_t kIirtfMatrixSize = size_t(3) * FT_SH_COEFFS * FT_SH_COEFFS;
+// The band max(l1, l0) of entry i of an IIRTF matrix (or of concatenated matrices): j = l(l + 1) + m.
+inline int iirtfEntryBand(size_t i) {
+  const size_t e = i % (size_t(FT_SH_COEFFS) * FT_SH_COEFFS);
+  const auto band = [](size_t j) { return int(std::sqrt(double(j) + 0.5)); };
+  return std::max(band(e / FT_SH_COEFFS), band(e % FT_SH_COEFFS));
+}
 
 // Embree scene of the tiled exemplar (round linear curves); rays ignore one
 // fiber (the one they leave: 004 §4.1's rule for segment visibility, kept
@@ -115,8 +128,11 @@ glm::dvec3 iirtfPathRadiance(const IirtfScene& scene, const FabricParams& fabric
 // ω0 uniform on the upper hemisphere, ω1 uniform on the sphere (004 §4.2c),
 // from four uniform numbers.
 void iirtfDirections(double u0, double u1, double u2, double u3, glm::dvec3& w0, glm::dvec3& w1);
-// Adds T Y(ω0)⊗Y(ω1) / (p(ω0) p(ω1)) into a matrix (kIirtfMatrixSize doubles).
-void iirtfAccumulate(std::span<double> sum, glm::dvec3 T, glm::dvec3 w0, glm::dvec3 w1);
+// Adds T Y(ω0)⊗Y(ω1) / (p(ω0) p(ω1)) into a matrix (kIirtfMatrixSize doubles)
+// and, when sumSq is not empty, its square into sumSq (the per-path second
+// moments of the standard error).
+void iirtfAccumulate(std::span<double> sum, glm::dvec3 T, glm::dvec3 w0, glm::dvec3 w1,
+                     std::span<double> sumSq = {});
 
 // Σ over `paths` paths from block segment k (the centre copy's) of the
 // estimator term, in path order; `rays` accumulates the rays traced.
@@ -127,12 +143,25 @@ std::vector<double> iirtfSegmentSum(const IirtfScene& scene, const Exemplar& blo
 // members[i mod |C|], so p(k) = 1/|C|), paths = pathsPerCell rounded up to a
 // multiple of |C|; the per-segment sums in blocks (TBB) added in a fixed order.
 // An empty cell is all zeros.
+// stdError: the standard error of each entry of a from the same paths
+// (per-path second moments): stratified over the cell's segments,
+// SE² = Σ_k s_k² / (n |C|²) with s_k² the sample variance of segment k's n
+// path terms; with one path per segment the pooled variance of all paths
+// over their count (which also holds the between-segment spread: larger);
+// infinite for a single path; 0 for an empty cell (A = 0 exactly).
 struct IirtfCell {
-  std::vector<double> a;   // kIirtfMatrixSize
+  std::vector<double> a;         // kIirtfMatrixSize
+  std::vector<double> stdError;  // kIirtfMatrixSize
   uint64_t paths = 0, rays = 0;
 };
 IirtfCell iirtfCellCpu(const IirtfScene& scene, const Exemplar& block, int tiles, const FabricParams& fabric,
                        const IirtfSettings& s, const std::vector<uint32_t>& members);
+
+// Noise-aware SH order of one cell (docs/prt-multiple-scattering.md, "Noise or bias"): the
+// relative noise of band l is sqrt(Σ SE² / Σ a²) over the entries with max(l1, l0) = l (all
+// channels); the cell keeps the bands below the first l ≥ 1 whose noise exceeds `cut` and its
+// other entries are set to 0. Returns the bands kept (1..FT_SH_BANDS).
+int prtMsNoiseCut(IirtfCell& cell, double cut);
 
 // ---- per frame (004 §5.3.1) ----------------------------------------------------
 // L̃^multi of one query with A_C (kIirtfMatrixSize values, any precision the

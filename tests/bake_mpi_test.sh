@@ -3,7 +3,7 @@
 # (bake/bake_runner.h, docs/bakes.md):
 #   WITH_MPI=1: the AO bake under `mpirun -np 1, 2, 3` and the ξ bake
 #     (ds-correction), the segment visibility bake (segment-visibility) and
-#     the IIRTF bake (iirtf) under `mpirun -np 2` are byte for byte the ones without mpirun (the determinism contract: `cmp` is the check); a
+#     the IIRTF bake (iirtf, A_C and its standard errors) under `mpirun -np 2` are byte for byte the ones without mpirun (the determinism contract: `cmp` is the check); a
 #     failure planted on a worker rank and on rank 0's worker thread
 #     (FT_BAKE_FAIL_RANK) ends the job with the message, a non-zero status
 #     and no output, well within the timeout (no rank left waiting); an
@@ -107,8 +107,10 @@ fi
 
 # The IIRTF bake of 004 §4.2 (one shard per cell, paths keyed by segment and
 # path index) at CI size: the default block (768 segments), 3 × 3 tiles, a few cells of 5,000 paths.
+# The file is version 2: A_C and the standard error of each entry, both under the cmp.
 IIRTF=(bake iirtf --tiles 3 --cell-size 0.12 --paths 5000 --ell-paths 200)
 if "$FT" "${IIRTF[@]}" --out "$TMP/iirtf-one.bin" >"$TMP/out" 2>"$TMP/err"; then
+  head -1 "$TMP/iirtf-one.bin" | grep -q '"version":2' || fail "iirtf: the file is not version 2 (no standard errors)"
   if timeout 120 "${MPIRUN[@]}" -np 2 "$FT" "${IIRTF[@]}" --out "$TMP/iirtf-np2.bin" >"$TMP/out" 2>"$TMP/err"; then
     if cmp "$TMP/iirtf-one.bin" "$TMP/iirtf-np2.bin"; then
       ok "iirtf, mpirun -np 2: identical to the run without mpirun: $(tail -1 "$TMP/out")"

@@ -288,6 +288,33 @@ TEST(Iirtf, CellIsTheMeanOfItsSegments) {
   EXPECT_EQ(rays, cell.rays);
 }
 
+// The noise-aware SH order (prtMsNoiseCut) and the per-band noise report (iirtfNoiseByBand) on a
+// matrix written here: a ≡ 1, SE = 0.1 in bands 0–2, 0.7 in band 3, 0.2 in bands 4–5 (max(l1, l0)).
+TEST(Iirtf, NoiseCutAndNoiseByBand) {
+  IirtfCell c;
+  c.a.assign(kIirtfMatrixSize, 1.0);
+  c.stdError.resize(kIirtfMatrixSize);
+  const double perBand[FT_SH_BANDS] = {0.1, 0.1, 0.1, 0.7, 0.2, 0.2};
+  const auto band = [](int j) { return j < 1 ? 0 : j < 4 ? 1 : j < 9 ? 2 : j < 16 ? 3 : j < 25 ? 4 : 5; };
+  for (size_t i = 0; i < kIirtfMatrixSize; ++i) {
+    const int e = int(i % (FT_SH_COEFFS * FT_SH_COEFFS));
+    c.stdError[i] = perBand[std::max(band(e / FT_SH_COEFFS), band(e % FT_SH_COEFFS))];
+  }
+  const std::vector<float> af(c.a.begin(), c.a.end()), ef(c.stdError.begin(), c.stdError.end());
+  const IirtfNoiseByBand n = iirtfNoiseByBand(af, ef);
+  for (int l = 0; l < FT_SH_BANDS; ++l) EXPECT_NEAR(n.band[size_t(l)], perBand[l], 1e-6) << "band " << l;
+  EXPECT_NEAR(n.pair[size_t(3 * FT_SH_BANDS + 1)], 0.7, 1e-6);  // (l1, l0) = (3, 1): max 3
+  IirtfCell cut = c;
+  EXPECT_EQ(prtMsNoiseCut(cut, 0.5), 3);  // band 3 is the first above 0.5: bands 0–2 kept
+  for (size_t i = 0; i < kIirtfMatrixSize; ++i) {
+    const int e = int(i % (FT_SH_COEFFS * FT_SH_COEFFS));
+    ASSERT_EQ(cut.a[i], std::max(band(e / FT_SH_COEFFS), band(e % FT_SH_COEFFS)) < 3 ? 1.0 : 0.0) << i;
+  }
+  IirtfCell all = c;
+  EXPECT_EQ(prtMsNoiseCut(all, 0.8), FT_SH_BANDS);  // no band above 0.8: nothing cut
+  EXPECT_EQ(all.a, c.a);
+}
+
 TEST(Iirtf, MeanFreePathAndCells) {
   Small t;
   const MeanFreePath ell = estimateMeanFreePath(*t.scene, t.block, t.s.tiles, t.fabric, t.s);
@@ -387,7 +414,35 @@ TEST(IirtfBake, SameBytesForAnyThreadCountAndTheReaderReadsIt) {
     EXPECT_EQ(f.segments, 64u);
     EXPECT_GE(f.cells, 2u);
     EXPECT_EQ(f.transfer.size(), f.cells * kIirtfMatrixSize);
+    EXPECT_EQ(f.version, 2);
+    ASSERT_EQ(f.stdError.size(), f.transfer.size());
+    for (size_t i = 0; i < f.stdError.size(); ++i)
+      if (f.transfer[i] != 0.0f) ASSERT_GT(f.stdError[i], 0.0f) << "entry " << i;  // a non-zero mean of ≥ 2 paths varies
+    EXPECT_EQ(f.header["relative_noise_by_band"].size(), size_t(FT_SH_BANDS));
     EXPECT_GT(f.header.value("mean_free_path", 0.0), 0.0);
+    {  // A version 1 file (no stderr section) reads with no noise estimate; an unknown version is refused by name.
+      const size_t headerEnd = bytes.find('\n');
+      nlohmann::json h = nlohmann::json::parse(bytes.substr(0, headerEnd));
+      const auto v1 = dir / fmt::format("ft_iirtf_test_v1_{}.bin", threads);
+      const auto write = [&](int version, size_t keep) {
+        h["version"] = version;
+        std::ofstream o(v1, std::ios::binary);
+        o << h.dump() << '\n' << bytes.substr(headerEnd + 1, keep);
+      };
+      write(1, bytes.size() - headerEnd - 1 - f.cells * kIirtfMatrixSize * 4);
+      const IirtfFile old = readIirtfFile(v1);
+      EXPECT_EQ(old.version, 1);
+      EXPECT_TRUE(old.stdError.empty());
+      EXPECT_EQ(old.transfer, f.transfer);
+      write(3, bytes.size() - headerEnd - 1);
+      try {
+        readIirtfFile(v1);
+        ADD_FAILURE() << "a version 3 file was read";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("\"version\": 3"), std::string::npos) << e.what();
+      }
+      std::filesystem::remove(v1);
+    }
     // A cut file names its size.
     std::filesystem::resize_file(out, std::filesystem::file_size(out) - 4);
     try {

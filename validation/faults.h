@@ -29,6 +29,7 @@
 #include "knit/knit_render.h"
 #include "reference/ds_correction.h"
 #include "reference/flyaway.h"
+#include "reference/prt_multiple_scattering.h"
 #include "reference/segment_visibility.h"
 
 namespace ft {
