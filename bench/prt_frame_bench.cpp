@@ -7,6 +7,8 @@
 //                      volume's G-buffer, segment marks and c_T per cell,
 //                      shading per hit segment, composition per pixel, one
 //                      read-back of the image (data uploaded once, outside);
+//   BM_PrtFrameGpuGBuffer  the GPU frame's first step alone: the volume's
+//                      G-buffer (ExemplarVolumeGpu::sampleNoReadback, glFinish);
 //   BM_PrtFrameGpuTwin the twin of the arithmetic (PrtFrameGpu::render): the
 //                      G-buffer and the requests read back, the GPU SS and MS
 //                      evaluators re-uploading them, the composition;
@@ -100,6 +102,15 @@ void BM_PrtFrameGpu(benchmark::State& state) {
   finish(state, "pixels_per_s", framePixels());
 }
 
+void BM_PrtFrameGpuGBuffer(benchmark::State& state) {
+  GpuSide& g = gpuSide();
+  for (auto _ : state) {
+    g.vol.sampleNoReadback(g.in.rays);
+    glFinish();
+  }
+  finish(state, "pixels_per_s", framePixels());
+}
+
 void BM_PrtFrameGpuTwin(benchmark::State& state) {
   GpuSide& g = gpuSide();
   for (auto _ : state) {
@@ -158,6 +169,7 @@ int main(int argc, char** argv) {
       g_gl = ft::GlContext::create(ft::glBackendFromEnv());
       benchmark::AddCustomContext("gl_renderer", g_gl->info().renderer);
       reg("BM_PrtFrameGpu", BM_PrtFrameGpu);
+      reg("BM_PrtFrameGpuGBuffer", BM_PrtFrameGpuGBuffer);
       reg("BM_PrtFrameGpuTwin", BM_PrtFrameGpuTwin);
     } catch (const std::exception& e) {
       std::cerr << "ft_prt_frame_bench: no GL context, CPU benchmarks only (" << e.what() << ")\n";
