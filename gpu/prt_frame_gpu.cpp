@@ -93,10 +93,6 @@ std::vector<PrtFramePixel> PrtFrameGpu::render(const PrtFrameGpuInputs& in, std:
   return compose(px);
 }
 
-}  // namespace ft
-
-namespace ft {
-
 PrtFrameRendererGpu::PrtFrameRendererGpu(const GlInfo& gl, const std::vector<std::string>& defines)
     : maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {
   GLint ubos = 0, blocks = 0;
