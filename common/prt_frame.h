@@ -122,16 +122,18 @@ FT_FUNC PrtFramePixel ftPrtFrameRequests(uint k, vec3 rayDirection, vec3 a, vec3
   return p;
 }
 
-// The single-pass GPU frame (gpu/prt_frame_gpu.h PrtFrameRendererGpu,
-// prt_frame_gpu.comp.glsl): per frame, three passes of one program over data
-// that stays on the GPU. With the orthographic camera of the frame ω_o is the
-// same for every pixel and V_glo = 1, so a pixel's radiance depends on its
-// segment alone: the light's c_d and c_T = A_C c_d are done once per cell, the
-// SH rotation R_ωo, the C_S dot and single scattering once per segment the
+// The GPU frame (gpu/prt_frame_gpu.h PrtFrameRendererGpu): per frame, four
+// passes of two programs over data that stays on the GPU
+// (prt_frame_gpu_pixels.comp.glsl: mark, pixels; prt_frame_gpu.comp.glsl:
+// cells, segments). With the orthographic camera of the frame ω_o is the same
+// for every pixel and V_glo = 1, so a pixel's radiance depends on its segment
+// alone: the light's c_d and c_T = A_C c_d are done once per cell, the SH
+// rotation R_ωo, the C_S dot and single scattering once per segment the
 // G-buffer hits, and a pixel only composes its segment's two terms.
-#define FT_PRT_FRAME_GPU_PREPARE 0u   // one invocation per pixel / cell: mark the pixel's segment; c_T = A_C c_d of the cell
-#define FT_PRT_FRAME_GPU_SEGMENTS 1u  // one per block segment: L^single, L̃^multi (zeros if no pixel hits it)
-#define FT_PRT_FRAME_GPU_PIXELS 2u    // one per G-buffer texel: L = L^single + V̄_glo L̃^multi
+#define FT_PRT_FRAME_GPU_MARK 0u      // one invocation per G-buffer texel: mark its segment
+#define FT_PRT_FRAME_GPU_CELLS 1u     // one per IIRTF cell: c_T = A_C c_d
+#define FT_PRT_FRAME_GPU_SEGMENTS 2u  // one per block segment: L^single, L̃^multi (zeros if no texel marked it)
+#define FT_PRT_FRAME_GPU_PIXELS 3u    // one per G-buffer texel: L = L^single + V̄_glo L̃^multi
 #define FT_PRT_FRAME_GPU_CT_FLOATS 144u  // c_T of a cell in the frame buffer: vec4 (rgb, 0) per coefficient
 #define FT_PRT_FRAME_GPU_SEGMENT_FLOATS 8u  // a segment's shading: (L^single, 0), (L̃^multi, 0)
 

@@ -98,13 +98,14 @@ PrtFrameRendererGpu::PrtFrameRendererGpu(const GlInfo& gl, const std::vector<std
   GLint ubos = 0, blocks = 0;
   glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &ubos);
   glGetIntegerv(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, &blocks);
-  constexpr int kHighestSsbo = FT_SSBO_SVF_WEIGHTS, kBlocks = 9;
+  constexpr int kHighestSsbo = FT_SSBO_SVF_WEIGHTS, kBlocks = 8;
   if (ubos <= FT_UBO_PRT_FRAME_GPU || gl.maxShaderStorageBufferBindings <= kHighestSsbo || blocks < kBlocks)
     throw std::runtime_error(fmt::format("PrtFrameRendererGpu: UBO slot {}, SSBO slots up to {} and {} storage blocks "
                                          "per compute shader, but the driver has {} UBO and {} SSBO bindings and {} blocks",
                                          FT_UBO_PRT_FRAME_GPU, kHighestSsbo, kBlocks, ubos,
                                          gl.maxShaderStorageBufferBindings, blocks));
-  program_ = Program(buildProgram({"shaders/prt_frame_gpu.comp.glsl"}, defines));
+  pixels_ = Program(buildProgram({"shaders/prt_frame_gpu_pixels.comp.glsl"}, defines));
+  shading_ = Program(buildProgram({"shaders/prt_frame_gpu.comp.glsl"}, defines));
 }
 
 void PrtFrameRendererGpu::upload(const PrtFrameGpuInputs& in) {
@@ -198,17 +199,19 @@ PrtFrameGpuImage PrtFrameRendererGpu::render(ExemplarVolumeGpu& volume, const Vo
   msTables_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TABLES);
   frame_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_FRAME);
   const struct {
+    GLuint program;
     uint32_t pass;
     size_t items;
     const char* what;
-  } passes[] = {{FT_PRT_FRAME_GPU_PREPARE, std::max(pixels, cells_), "prt_frame_gpu (segment marks, c_T per cell)"},
-                {FT_PRT_FRAME_GPU_SEGMENTS, segmentCount_, "prt_frame_gpu (shading per segment)"},
-                {FT_PRT_FRAME_GPU_PIXELS, pixels, "prt_frame_gpu (composition per pixel)"}};
+  } passes[] = {{pixels_.id(), FT_PRT_FRAME_GPU_MARK, pixels, "prt_frame_gpu_pixels (segment marks)"},
+                {shading_.id(), FT_PRT_FRAME_GPU_CELLS, cells_, "prt_frame_gpu (c_T per cell)"},
+                {shading_.id(), FT_PRT_FRAME_GPU_SEGMENTS, segmentCount_, "prt_frame_gpu (shading per segment)"},
+                {pixels_.id(), FT_PRT_FRAME_GPU_PIXELS, pixels, "prt_frame_gpu_pixels (composition per pixel)"}};
   for (const auto& pass : passes) {
     p.sizes.z = pass.pass;
     const Buffer u = Buffer::create(sizeof(PrtFrameGpuParams), &p);
     u.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_FRAME_GPU);
-    dispatchFlat(program_.id(), pass.items, FT_WG_PRT_FRAME, maxGroupsY_, pass.what);
+    dispatchFlat(pass.program, pass.items, FT_WG_PRT_FRAME, maxGroupsY_, pass.what);
   }
   const std::vector<glm::vec4> all = readBuffer<glm::vec4>(frame_.id(), images * pixels);
   PrtFrameGpuImage im;

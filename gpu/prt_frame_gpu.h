@@ -6,8 +6,8 @@
 // filled `single` and `multi` — the composition (mode 1). Every call uploads,
 // dispatches and reads back (PrtFrameGpu, the twin of the arithmetic).
 // PrtFrameRendererGpu is the frame renderer: data uploaded once, then per
-// frame the volume's G-buffer and three passes of prt_frame_gpu.comp.glsl on
-// the GPU, one read-back of the image.
+// frame the volume's G-buffer and four passes (prt_frame_gpu_pixels.comp.glsl,
+// prt_frame_gpu.comp.glsl) on the GPU, one read-back of the image.
 #pragma once
 #include <epoxy/gl.h>
 
@@ -98,9 +98,10 @@ struct PrtFrameGpuImage {
 // The single-pass GPU frame (docs/prt-frame.md "The GPU frame"): upload() puts
 // the scene's segments, SSDFs, SG weights, 𝒢 table, A_C matrices and C_S/C_G
 // tables in GPU buffers once; render() then runs, with no read-back before the
-// image: the volume's G-buffer (ExemplarVolumeGpu::sampleNoReadback), c_T per
-// cell, L^single and L̃^multi per segment (the orthographic camera's one ω_o),
-// the composition per pixel (prt_frame_gpu.comp.glsl). Slots: UBO 24
+// image: the volume's G-buffer (ExemplarVolumeGpu::sampleNoReadback), the
+// segments it hits marked, c_T per cell, L^single and L̃^multi per marked
+// segment (the orthographic camera's one ω_o), the composition per pixel
+// (prt_frame_gpu_pixels.comp.glsl, prt_frame_gpu.comp.glsl). Slots: UBO 24
 // FT_UBO_PRT_FRAME_GPU (new), the frame buffer at FT_SSBO_PRT_FRAME, the
 // others as the evaluators and the twin bind them.
 class PrtFrameRendererGpu {
@@ -118,7 +119,7 @@ class PrtFrameRendererGpu {
 
  private:
   int maxGroupsY_ = 65535;
-  Program program_;
+  Program pixels_, shading_;
   Buffer segments_, ssdf_, segmentData_, weights_, ssTable_, transfer_, msTables_, frame_;
   size_t segmentCount_ = 0, cells_ = 0;
   int svfSize_ = 0, axes_ = 0, bands_ = 0, thetaO_ = 0, lambdaNodes_ = 0;

@@ -1,16 +1,14 @@
-// The single-pass GPU frame of the fabric PRT, 004 §5 (common/prt_frame.h,
-// gpu/prt_frame_gpu.h PrtFrameRendererGpu; docs/prt-frame.md). One program,
-// three passes per frame (frame.sizes.z), no read-back between them:
-//   FT_PRT_FRAME_GPU_PREPARE   one invocation per G-buffer texel and per IIRTF cell:
-//                              mark the texel's segment; the cell's c_d of the light
+// The GPU frame of the fabric PRT, 004 §5 (common/prt_frame.h,
+// gpu/prt_frame_gpu.h PrtFrameRendererGpu; docs/prt-frame.md): its shading
+// program, two passes (frame.sizes.z) between the per-pixel program's
+// (prt_frame_gpu_pixels.comp.glsl), no read-back between them:
+//   FT_PRT_FRAME_GPU_CELLS     one invocation per IIRTF cell: the light's c_d
 //                              (004 §5.3.1: Y(ω_d), or C_G turned to ξ) and c_T = A_C c_d;
-//   FT_PRT_FRAME_GPU_SEGMENTS  one per block segment that a texel marked (zeros for the
-//                              rest): ω_o of the orthographic camera,
-//                              t_k, d_k at the light → L^single (004 §5.2: SSDF / sums
-//                              of SGs / their blend) and L̃^multi = C_S[θ_o]·(R_ωo c_T)
-//                              of the segment's cell (004 §5.3.1);
-//   FT_PRT_FRAME_GPU_PIXELS    one per G-buffer texel (the exemplar volume's, left on
-//                              the GPU): L = L^single + V̄_glo L̃^multi of its segment.
+//   FT_PRT_FRAME_GPU_SEGMENTS  one per block segment that a pixel marked (zeros for the
+//                              rest): ω_o of the orthographic camera, t_k, d_k at the
+//                              light → L^single (004 §5.2: SSDF / sums of SGs / their
+//                              blend) and L̃^multi = C_S[θ_o]·(R_ωo c_T) of the segment's
+//                              cell (004 §5.3.1).
 // The math is the shared headers'; the table reads are prt_ss_shade.glsl's and
 // prt_ms_frame.glsl's, as in the evaluators.
 #include "common/constants.h"
@@ -35,7 +33,6 @@ layout(std430, binding = FT_SSBO_PRT_SS_TABLE) readonly buffer PrtFrameSsTable {
 layout(local_size_x = FT_WG_PRT_FRAME) in;
 layout(std140, binding = FT_UBO_PRT_FRAME_GPU) uniform PrtFrameGpuBlock { PrtFrameGpuParams frame; };
 layout(std140, binding = FT_UBO_PRT_VOL) uniform PrtVolBlock { VolParams vol; };
-layout(std430, binding = FT_SSBO_PRT_RESULTS) readonly buffer PrtFrameGBuffer { VolHit gbuffer[]; };
 layout(std430, binding = FT_SSBO_PRT_VOL_SEGMENTS) readonly buffer PrtFrameSegments { VolSegment segments[]; };
 layout(std430, binding = FT_SSBO_SVF_SSDF) readonly buffer PrtFrameSsdf { float ssdf[]; };
 // Per segment: (R_k angle, IIRTF cell, 0, 0).
@@ -55,14 +52,6 @@ void cellPass(uint c) {
   uint base = frame.offsets.x + c * FT_PRT_FRAME_GPU_CT_FLOATS;
   for (int j = 0; j < FT_SH_COEFFS; ++j)
     for (int ch = 0; ch < 3; ++ch) frameData[base + uint(j) * 4u + uint(ch)] = cT.c[j][ch];
-}
-
-void preparePass(uint i) {
-  if (i < frame.sizes.x) {
-    uint id = gbuffer[i].id;
-    if (id != 0u && id <= frame.sizes.w) frameData[frame.offsets.w + id - 1u] = 1.0f;  // same value from every texel
-  }
-  if (i < frame.ms.x) cellPass(i);
 }
 
 void segmentPass(uint k) {
@@ -97,38 +86,9 @@ void segmentPass(uint k) {
   frameData[base + 7u] = 0.0f;
 }
 
-void pixelPass(uint i) {
-  uint id = gbuffer[i].id;
-  vec3 single = vec3(0.0f), multi = vec3(0.0f), total = vec3(0.0f);
-  float covered = 0.0f;
-  if (id != 0u && id <= frame.sizes.w) {
-#ifdef FT_FAULT_PRT_FRAME_GPU_ID_OFFSET
-    uint base = frame.offsets.y + id * FT_PRT_FRAME_GPU_SEGMENT_FLOATS;  // planted: the G-buffer's 1 + k read as k
-#else
-    uint base = frame.offsets.y + (id - 1u) * FT_PRT_FRAME_GPU_SEGMENT_FLOATS;
-#endif
-    single = vec3(frameData[base], frameData[base + 1u], frameData[base + 2u]);
-    multi = vec3(frameData[base + 4u], frameData[base + 5u], frameData[base + 6u]);
-    total = ftPrtFrameCompose(single, multi, 1.0f);
-    covered = 1.0f;
-  }
-  uint n = frame.sizes.x;
-  for (int ch = 0; ch < 3; ++ch) frameData[i * 4u + uint(ch)] = total[ch];
-  frameData[i * 4u + 3u] = covered;
-  if (frame.flags.x == 1u) {
-    for (int ch = 0; ch < 3; ++ch) {
-      frameData[(n + i) * 4u + uint(ch)] = single[ch];
-      frameData[(2u * n + i) * 4u + uint(ch)] = multi[ch];
-    }
-    frameData[(n + i) * 4u + 3u] = covered;
-    frameData[(2u * n + i) * 4u + 3u] = covered;
-  }
-}
-
 void main() {
   uint item = flatInvocationIndex(groupsX, FT_WG_PRT_FRAME);
   if (item >= itemCount) return;
-  if (frame.sizes.z == FT_PRT_FRAME_GPU_PREPARE) preparePass(item);
-  else if (frame.sizes.z == FT_PRT_FRAME_GPU_SEGMENTS) segmentPass(item);
-  else pixelPass(item);
+  if (frame.sizes.z == FT_PRT_FRAME_GPU_CELLS) cellPass(item);
+  else segmentPass(item);
 }
