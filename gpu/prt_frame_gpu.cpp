@@ -123,11 +123,12 @@ void PrtFrameRendererGpu::upload(const PrtFrameGpuInputs& in) {
         "𝒢 table {}, {} transfer values, {} bands, C_S {} ({} rows), C_G {}",
         segs, in.ssdf.size(), in.svfSize, in.segmentData.size(), in.weights.size(), in.axes, in.ssTable.size(),
         in.transfer.size(), in.bands, t ? t->cs.size() : 0, t ? t->thetaO : 0, t ? t->cg.size() : 0));
-  cells_ = in.transfer.size() / kMatrix;
+  const size_t cells = in.transfer.size() / kMatrix;
   for (size_t k = 0; k < segs; ++k)
-    if (!(in.segmentData[k].y >= 0.0f) || size_t(in.segmentData[k].y) >= cells_)
+    if (!(in.segmentData[k].y >= 0.0f) || size_t(in.segmentData[k].y) >= cells)
       throw std::invalid_argument(fmt::format("PrtFrameRendererGpu::upload: segment {}: cell {} of {}", k,
-                                              in.segmentData[k].y, cells_));
+                                              in.segmentData[k].y, cells));
+  cells_ = cells;  // nothing changes before the checks have passed
   segmentCount_ = segs;
   svfSize_ = in.svfSize;
   axes_ = in.axes;
