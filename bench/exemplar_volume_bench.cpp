@@ -45,8 +45,9 @@ void BM_VolBuildGpu(benchmark::State& state) {
                                                       benchmark::Counter::kIsIterationInvariantRate);
 }
 
-void BM_VolSampleGpu(benchmark::State& state, int samples) {
-  g_gpu->build(g_layout, g_segs, g_cand.start, g_cand.entries);
+// 1024² orthographic rays over [−2P, 2P]², 27° off the normal; samples 0:
+// the capsule ids, else the midpoint ids with N = samples.
+ft::VolParams benchRays(int samples) {
   ft::VolParams rays = g_layout;
   ft::VolCamera cam;
   const float P = ft::ftVolPeriod(g_layout);
@@ -54,7 +55,23 @@ void BM_VolSampleGpu(benchmark::State& state, int samples) {
   cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
   cam.position = -3.0f * P * cam.direction;
   cam.halfWidth = cam.halfHeight = 2.0f * P;
-  ft::setVolumeRays(rays, cam, 1024, 1024, samples);
+  ft::setVolumeRays(rays, cam, 1024, 1024, samples > 0 ? samples : 1,
+                    samples > 0 ? FT_VOL_IDS_MIDPOINT : FT_VOL_IDS_CAPSULE);
+  return rays;
+}
+
+// The CPU capsule ids (TBB over rows), the rays of BM_VolSampleGpu.
+void BM_VolSampleCpuCapsule(benchmark::State& state) {
+  const ft::ExemplarVolume vol = ft::buildExemplarVolumeCpu(g_block, g_layout, g_cand);
+  const ft::VolParams rays = benchRays(0);
+  for (auto _ : state) benchmark::DoNotOptimize(ft::sampleVolumeCpu(vol, rays));
+  state.counters["rays_per_s"] = benchmark::Counter(1024.0 * 1024.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// samples 0: the capsule ids (the first exact capsule hit; N unused).
+void BM_VolSampleGpu(benchmark::State& state, int samples) {
+  g_gpu->build(g_layout, g_segs, g_cand.start, g_cand.entries);
+  const ft::VolParams rays = benchRays(samples);
   for (auto _ : state) {
     g_gpu->sampleNoReadback(rays);
     glFinish();
@@ -66,21 +83,29 @@ void BM_VolSampleGpu(benchmark::State& state, int samples) {
 
 int main(int argc, char** argv) {
   try {
-    std::string fibers = "24", radius = "0.0008";
+    std::string fibers = "24", radius = "0.0008", cell = "4";
     ft::takeFlag(argc, argv, "fibers-per-ply", fibers);
     ft::takeFlag(argc, argv, "fiber-radius", radius);
+    ft::takeFlag(argc, argv, "cell-voxels", cell);  // voxels per candidate cell side
     ft::ExemplarSettings es;
     es.fibersPerPly = std::stoi(fibers);
     es.fiberRadius = std::stof(radius);
     g_block = ft::makePlainWeaveExemplar(es);
-    g_layout = ft::makeVolumeLayout(g_block);
+    g_layout = ft::makeVolumeLayout(g_block, 0, std::stoi(cell));
     g_cand = ft::buildVolumeCandidates(g_block, g_layout);
     g_segs = ft::volumeSegments(g_block);
     benchmark::AddCustomContext("exemplar", g_block.label);
     benchmark::AddCustomContext("volume", std::to_string(g_layout.dims.x) + "x" + std::to_string(g_layout.dims.y) +
                                               "x" + std::to_string(g_layout.dims.z));
     benchmark::AddCustomContext("segments", std::to_string(g_block.segments.size()));
+    benchmark::AddCustomContext("cell_voxels", cell);
+    benchmark::AddCustomContext("candidates_max_per_cell", std::to_string(g_cand.maxPerCell));
+    benchmark::AddCustomContext("candidates_mean_per_cell",
+                                std::to_string(double(g_cand.entries.size()) / double(g_cand.start.size() - 1)));
     benchmark::RegisterBenchmark("BM_VolBuildCpu", BM_VolBuildCpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+    benchmark::RegisterBenchmark("BM_VolSampleCpuCapsule", BM_VolSampleCpuCapsule)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
     try {
       g_gl = ft::GlContext::create(ft::glBackendFromEnv());
       g_gpu = std::make_unique<ft::ExemplarVolumeGpu>(g_gl->info());
@@ -90,6 +115,7 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark(("BM_VolSampleGpu/" + std::to_string(n)).c_str(), BM_VolSampleGpu, n)
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
+      benchmark::RegisterBenchmark("BM_VolSampleGpuCapsule", BM_VolSampleGpu, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
     } catch (const std::exception& e) {
       std::cerr << "ft_exemplar_volume_bench: no GL context, CPU benchmarks only (" << e.what() << ")\n";
     }

@@ -42,7 +42,9 @@
 //                                         (FiberRenderer::drawLobeShadowMaps, every lobe
 //                                         with energy, 1024² each) and their copy.
 // Every named frame and trace: counter load1, the 1-minute load average when
-// it ended (the 2 cores are shared; compare runs under like loads).
+// it ended (the 2 cores are shared; compare runs under like loads), and
+// cpu_ms, the CPU time of all the process's threads per iteration
+// (ft::processCpuMs), which other jobs on the cores disturb far less.
 // Counters of the culled frames: the phases of one frame timed apart
 // (FrameTimings: shadow map, generation, occluder pass, shaded pass) and the
 // share of pixels an occluder covers.
@@ -57,6 +59,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -162,11 +165,17 @@ void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, ft::Fibe
   g->renderer->setDeferred(deferred);
   g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);  // warm-up
   glFinish();
+  double cpuMs = 0.0;
   for (auto _ : state) {
+    const double cpu0 = ft::processCpuMs();
     g->timer->begin();
     g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);
     state.SetIterationTime(g->timer->endMs() * 1e-3);
+    cpuMs += ft::processCpuMs() - cpu0;
   }
+  // CPU time of all threads per frame: the work, steadier than wall time
+  // when other jobs share the cores (ideal wall time on n idle cores ≈ cpu_ms / n).
+  state.counters["cpu_ms"] = cpuMs / double(std::max<int64_t>(1, state.iterations()));
   if (cull) {
     ft::FrameTimings t;
     g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height, &t);
@@ -197,14 +206,18 @@ void BM_Trace16(benchmark::State& state, const ft::Camera* camera) {
   o.samplesPerPixel = 16;
   o.shadows = true;
   size_t nonFinite = 0;
+  double cpuMs = 0.0;
   for (auto _ : state) {
+    const double cpu0 = ft::processCpuMs();
     const auto t0 = std::chrono::steady_clock::now();
     const ft::TraceResult r = ft::traceFibers(scene, *camera, g->shading, table, o);
     state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    cpuMs += ft::processCpuMs() - cpu0;
     nonFinite += r.stats.nonFinite;
     benchmark::DoNotOptimize(r.image.pixels.data());
   }
   state.counters["segments"] = double(scene.segmentCount());
+  state.counters["cpu_ms"] = cpuMs / double(std::max<int64_t>(1, state.iterations()));
   state.counters["load1"] = loadAverage();
   if (nonFinite > 0) state.SkipWithError(fmt::format("{} non-finite samples", nonFinite).c_str());
 }

@@ -88,6 +88,10 @@ CLI::App* addPrtFrameCommand(CLI::App& app, PrtFrameCommandOptions& o) {
   c->add_option("--lambda", o.lambda, "0: directional light of unit irradiance; > 0: the SG light G/M of this sharpness")
       ->capture_default_str();
   c->add_option("--volume-samples", f.volumeSamples, "samples per eye ray in the exemplar volume (004 §5.1)")->capture_default_str();
+  c->add_option("--volume-ids", o.volumeIds,
+                "G-buffer ids: capsule (the first exact ray-capsule hit among the volume's candidates) or midpoint "
+                "(004 §5.1: the nearest midpoint at the first non-empty sample); default: the settings' (" +
+                    std::string(volumeIdsName(PrtFrameSettings{}.volumeIds)) + ")");
   c->add_option("--voxels-per-diameter", f.voxelsPerDiameter, "volume voxels per fiber diameter")->capture_default_str();
   c->add_option("--svf-size", f.svfSize, "visibility image size (004: 128)")->capture_default_str();
   c->add_option("--bands", f.bands, "SH bands L + 1 of multiple scattering")->capture_default_str();
@@ -112,7 +116,9 @@ int runPrtFrameCommand(const PrtFrameCommandOptions& o, std::ostream& out) {
   view.lambda = o.lambda;
   checkPrtFrameView(view);
   if (!std::isfinite(o.exposure)) throw InputError("--exposure: not a finite number");
-  PrtFrameScene scene(o.frame);
+  PrtFrameSettings settings = o.frame;
+  if (!o.volumeIds.empty()) settings.volumeIds = parseVolumeIds(o.volumeIds);
+  PrtFrameScene scene(settings);
   const double setup = scene.bakeSeconds();
   PrtFrameParts prt = scene.renderPrt(view);  // with --gpu: the bakes, and the CPU frame to compare with
   if (o.gpu) {
@@ -135,8 +141,10 @@ int runPrtFrameCommand(const PrtFrameCommandOptions& o, std::ostream& out) {
                      scene.block().segments.size(), o.frame.tiles, scene.meanFreePath(), scene.cellCount());
   out << fmt::format("bakes: {:.2f} s (setup {:.2f} s; visibility of {} segments, IIRTF of {} cells)\n", scene.bakeSeconds(),
                      setup, scene.svfBaked(), scene.cellsBaked());
-  out << fmt::format("PRT{}: {}x{}, {} px covered, average {:.6g} (single {:.6g}, multiple {:.6g}), frame {:.3f} s\n",
-                     o.gpu ? " (GPU frame)" : "", prt.total.width, prt.total.height, prt.total.covered, prt.total.average(), prt.single.average(),
+  out << fmt::format("PRT{}: {}x{}, G-buffer ids {}, {} px covered, average {:.6g} (single {:.6g}, multiple {:.6g}), "
+                     "frame {:.3f} s\n",
+                     o.gpu ? " (GPU frame)" : "", prt.total.width, prt.total.height,
+                     settings.embreeGBuffer ? "embree" : volumeIdsName(settings.volumeIds), prt.total.covered, prt.total.average(), prt.single.average(),
                      prt.multi.average(), prt.total.seconds);
   const DisplayMapping display{o.exposure, ToneMap::Aces};
   auto write = [&](const std::string& suffix, const PrtFrameImage& im) {

@@ -24,6 +24,7 @@ struct PrtFrameCommandOptions {
   std::string out = "prt-frame";        // writes <out>_prt.{exr,png}, <out>_pt.{exr,png}
   float exposure = 0.0f;                // PNG exposure in stops
   bool noReference = false;
+  std::string volumeIds;                // "" : the settings' default; midpoint | capsule
   bool gpu = false;                     // the PRT image by the GPU frame (gpu/prt_frame_gpu.h PrtFrameRendererGpu)
 };
 

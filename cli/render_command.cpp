@@ -199,9 +199,12 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
     log << fmt::format("  occlusion culling: {} ({})\n", renderer.cullsView(gpu) ? "on" : "off", o.occlusionCull ? o.occlusionCullMode : "off");
     for (const auto& [name, t] : {std::pair<const char*, const FrameTimings&>{"cold frame", cold}, {"warm frame", warm}})
       log << fmt::format(
-          "  {}: {:.0f} ms = shadow map {:.0f} + generation {:.0f} + depth pass {:.0f} + {} {:.0f}{}\n", name,
+          "  {}: {:.0f} ms = shadow map {:.0f} + generation {:.0f} + depth pass {:.0f} + {} {:.0f}{}; CPU time "
+          "(all threads) {:.0f} ms, of which depth pass {:.0f}, {} {:.0f}\n",
+          name,
           t.totalMs(), t.shadowMapMs, t.generateMs, t.depthMs, o.deferred ? "visibility pass" : "shaded pass", t.shadeMs,
-          o.deferred ? fmt::format(" + deferred shading {:.0f} ({} hits)", t.deferredMs, renderer.deferredEntries()) : "");
+          o.deferred ? fmt::format(" + deferred shading {:.0f} ({} hits)", t.deferredMs, renderer.deferredEntries()) : "",
+          t.totalCpuMs, t.depthCpuMs, o.deferred ? "visibility pass" : "shaded pass", t.shadeCpuMs);
   }
   return 0;
 }

@@ -169,7 +169,7 @@
 #define FT_SSBO_PRT_MS_TRANSFER 62   // the IIRTF matrices A_C per cell
 #define FT_SSBO_PRT_MS_TABLES 63     // C_S and C_G
 #define FT_UBO_PRT_VOL 22            // exemplar volume (common/exemplar_volume.h)
-#define FT_SSBO_PRT_VOL_IDS 64       // the segment-id volume
+#define FT_SSBO_PRT_VOL_IDS 64       // the segment-id volume; after its voxels, the candidate lists and segment table (capsule ids)
 #define FT_SSBO_PRT_VOL_SEGMENTS 69  // the segment table (direction, midpoint, cell)
 // SSBO 73 is taken by deferred shading (FT_SSBO_DEFERRED_LIST): no slot below 80 is free.
 #define FT_SSBO_PRT_FRAME 35         // the PRT frame's per-pixel records (common/prt_frame.h PrtFramePixel)

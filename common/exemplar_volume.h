@@ -33,11 +33,18 @@
 namespace ft {
 inline bool ftFaultVolWrapNegative = false;
 inline bool ftFaultVolVoxelCorner = false;
+inline bool ftFaultVolCapsuleExit = false;
 using glm::ivec3;
 }
 #define FT_FAULT_VOL_WRAP_NEGATIVE_ON ::ft::ftFaultVolWrapNegative
 #define FT_FAULT_VOL_VOXEL_CORNER_ON ::ft::ftFaultVolVoxelCorner
+#define FT_FAULT_VOL_CAPSULE_EXIT_ON ::ft::ftFaultVolCapsuleExit
 #else
+#if defined(FT_FAULT_VOL_CAPSULE_EXIT)
+#define FT_FAULT_VOL_CAPSULE_EXIT_ON true
+#else
+#define FT_FAULT_VOL_CAPSULE_EXIT_ON false
+#endif
 #if defined(FT_FAULT_VOL_WRAP_NEGATIVE)
 #define FT_FAULT_VOL_WRAP_NEGATIVE_ON true
 #else
@@ -54,6 +61,12 @@ using glm::ivec3;
 #define FT_VOL_COPIES 9u          // the block and its 8 translates by (±P, ±P)
 #define FT_VOL_CAMERA_ORTHO 0u
 #define FT_VOL_CAMERA_PINHOLE 1u
+// The G-buffer's id (VolParams.camDir.w): 004 §5.1's nearest midpoint at the
+// first non-empty sample, or the first exact ray–capsule hit among the
+// candidates of the cells the ray crosses (docs/exemplar-volume.md).
+#define FT_VOL_IDS_MIDPOINT 0u
+#define FT_VOL_IDS_CAPSULE 1u
+#define FT_VOL_MAX_STEPS 8192u  // cells per ray of the capsule walk (then a miss)
 
 FT_NAMESPACE_BEGIN
 
@@ -66,7 +79,7 @@ struct VolParams {
   vec4 camPos;    // ortho: centre of the image rectangle; pinhole: the eye; w: camera type
   vec4 camRight;  // xyz: image right axis; w: half width (ortho: length; pinhole: tan of half the fov)
   vec4 camUp;     // xyz: image up axis; w: half height (same units)
-  vec4 camDir;    // xyz: viewing direction (unit); w: unused
+  vec4 camDir;    // xyz: viewing direction (unit); w: the id (FT_VOL_IDS_*)
 };
 FT_ASSERT_OFFSET(VolParams, dims, 16)
 FT_ASSERT_OFFSET(VolParams, ray, 48)
@@ -210,6 +223,149 @@ FT_FUNC vec3 ftVolRayDirection(VolParams p, uint x, uint y) {
   vec3 d = f + (sx * p.camRight.w) * vec3(p.camRight.x, p.camRight.y, p.camRight.z) +
            (sy * p.camUp.w) * vec3(p.camUp.x, p.camUp.y, p.camUp.z);
   return ftNormalize(d);
+}
+
+// ---- capsule ids: the first exact hit along the ray ------------------------
+// (docs/exemplar-volume.md "Ids"). The ray walks the candidate cells it
+// crosses (Amanatides & Woo 1987's traversal on the cells, unwrapped
+// coordinates); in each, the candidates (every capsule that can touch the
+// cell's voxels) are tested exactly, in the block frame shifted by the cell's
+// whole periods; the nearest hit wins once the walk passes it. The loop over
+// candidates is written out by the two callers (reference/
+// exemplar_volume.cpp, exemplar_volume_sample.comp.glsl), like the sampler's.
+
+FT_FUNC uint ftVolIdMode(VolParams p) { return uint(p.camDir.w + 0.5f); }
+
+// Entry parameter t ≥ 0 of the ray o + t d into the capsule of axis a–b and
+// radius r (the union of the lateral cylinder between the end planes and the
+// two end spheres: its first point is the earliest entry of the three); −1:
+// no entry ahead. The origin is taken to be outside the capsule.
+FT_FUNC float ftVolRayCapsule(vec3 o, vec3 d, vec3 a, vec3 b, float r) {
+  // Start from the ray's point nearest the capsule's midpoint: with the eye
+  // ~100 radii away, the quadratics below would otherwise cancel away the r².
+  float dd = dot(d, d);
+  float tc = dot(0.5f * (a + b) - o, d) / dd;
+  o = o + tc * d;
+  vec3 ba = b - a, oa = o - a;
+  float baba = dot(ba, ba), bard = dot(ba, d), baoa = dot(ba, oa), rdoa = dot(d, oa), oaoa = dot(oa, oa);
+  // The entry root of each part (planted fault: the exit root, the far side of the fiber).
+  float sgn = FT_FAULT_VOL_CAPSULE_EXIT_ON ? 1.0f : -1.0f;
+  float best = -1.0f;
+  // Lateral surface: |(oa + t d) ⊥ ba|² = r², multiplied through by |ba|².
+  float qa = baba * dd - bard * bard, qb = baba * rdoa - baoa * bard, qc = baba * oaoa - baoa * baoa - r * r * baba;
+  float disc = qb * qb - qa * qc;
+  if (qa > 1e-12f * baba * dd && disc >= 0.0f) {
+    float t = (-qb + sgn * sqrt(disc)) / qa;
+    float y = baoa + t * bard;  // axial coordinate × |ba|²
+    if (tc + t >= 0.0f && y >= 0.0f && y <= baba) best = tc + t;
+  }
+  // End spheres (centre a, then b).
+  for (int e = 0; e < 2; ++e) {
+    vec3 oc = e == 0 ? oa : o - b;
+    float sb = dot(oc, d), sc = dot(oc, oc) - r * r;
+    float sdisc = sb * sb - dd * sc;
+    if (sdisc < 0.0f) continue;
+    float t = tc + (-sb + sgn * sqrt(sdisc)) / dd;
+    if (t >= 0.0f && (best < 0.0f || t < best)) best = t;
+  }
+  return best;
+}
+
+// The cell walk: a voxel v (unwrapped) of the current candidate cell, the
+// cell's entry parameter t, and per axis the parameter where the ray leaves
+// the cell through its face in the step direction. Cells are grid.w voxels a
+// side from each period's start, the last of a period (and of the slab in z)
+// partial when the count is not a multiple; each face's parameter is computed
+// from the ray afresh (no accumulated increments).
+struct VolWalk {
+  ivec3 v;
+  float t;
+  vec3 tMax;
+  ivec3 step;
+};
+
+// The face coordinate (in voxels, unwrapped) of the cell of voxel v on one
+// axis, in the step direction dir: periodic (x, y: cells restart every n
+// voxels) or not (z).
+FT_FUNC int ftVolCellFace(int v, int dir, int n, int B, bool periodic) {
+  int w = periodic ? ftVolWrap(v, n) : v;
+  int lo = (w / B) * B;
+  int hi = min(lo + B, n);
+  return v - w + (dir > 0 ? hi : lo);
+}
+
+// Parameter at which the ray reaches voxel coordinate f on axis a.
+FT_FUNC float ftVolFaceT(vec3 o, vec3 d, int a, int f, VolParams p) {
+  float oa = a == 0 ? o.x : (a == 1 ? o.y : o.z);
+  float da = a == 0 ? d.x : (a == 1 ? d.y : d.z);
+  float ga = a == 0 ? p.origin.x : (a == 1 ? p.origin.y : p.origin.z);
+  return (ga + float(f) * p.origin.w - oa) / da;
+}
+
+FT_FUNC float ftVolWalkFaceT(vec3 o, vec3 d, int a, ivec3 v, ivec3 step, VolParams p) {
+  int st = a == 0 ? step.x : (a == 1 ? step.y : step.z);
+  if (st == 0) return 3.0e38f;
+  int va = a == 0 ? v.x : (a == 1 ? v.y : v.z);
+  int n = int(a == 0 ? p.dims.x : (a == 1 ? p.dims.y : p.dims.z));
+  return ftVolFaceT(o, d, a, ftVolCellFace(va, st, n, int(p.grid.w), a < 2), p);
+}
+
+// The walk from the slab entry t0 (the start voxel's k clamped into the slab:
+// a point on a face may round to just outside it).
+FT_FUNC VolWalk ftVolWalkBegin(vec3 o, vec3 d, float t0, VolParams p) {
+  VolWalk w;
+  vec3 c = (o + t0 * d - vec3(p.origin.x, p.origin.y, p.origin.z)) / p.origin.w;
+  w.v = ivec3(int(floor(c.x)), int(floor(c.y)), int(floor(c.z)));
+  w.v.z = min(max(w.v.z, 0), int(p.dims.z) - 1);
+  w.t = t0;
+  w.step = ivec3(d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0), d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0),
+                 d.z > 0.0f ? 1 : (d.z < 0.0f ? -1 : 0));
+  w.tMax = vec3(ftVolWalkFaceT(o, d, 0, w.v, w.step, p), ftVolWalkFaceT(o, d, 1, w.v, w.step, p),
+                ftVolWalkFaceT(o, d, 2, w.v, w.step, p));
+  return w;
+}
+
+// The next cell: across the nearest face (v moves to the first voxel beyond it).
+FT_FUNC VolWalk ftVolWalkNext(vec3 o, vec3 d, VolWalk w, VolParams p) {
+  int a = (w.tMax.x <= w.tMax.y && w.tMax.x <= w.tMax.z) ? 0 : (w.tMax.y <= w.tMax.z ? 1 : 2);
+  int B = int(p.grid.w);
+  if (a == 0) {
+    w.t = w.tMax.x;
+    int f = ftVolCellFace(w.v.x, w.step.x, int(p.dims.x), B, true);
+    w.v.x = w.step.x > 0 ? f : f - 1;
+    w.tMax.x = ftVolWalkFaceT(o, d, 0, w.v, w.step, p);
+  } else if (a == 1) {
+    w.t = w.tMax.y;
+    int f = ftVolCellFace(w.v.y, w.step.y, int(p.dims.y), B, true);
+    w.v.y = w.step.y > 0 ? f : f - 1;
+    w.tMax.y = ftVolWalkFaceT(o, d, 1, w.v, w.step, p);
+  } else {
+    w.t = w.tMax.z;
+    int f = ftVolCellFace(w.v.z, w.step.z, int(p.dims.z), B, false);
+    w.v.z = w.step.z > 0 ? f : f - 1;
+    w.tMax.z = ftVolWalkFaceT(o, d, 2, w.v, w.step, p);
+  }
+  return w;
+}
+
+// Whole periods between an unwrapped voxel index and its wrapped one
+// ((i − wrap(i)) / n, exact; non-negative divisions only).
+FT_FUNC int ftVolPeriodsOf(int i, int n) {
+  int m = i - ftVolWrap(i, n);
+  return m >= 0 ? m / n : -((-m) / n);
+}
+
+// The GPU volume buffer (gpu/exemplar_volume_gpu.h): nx·ny·nz ids, then the
+// candidate lists (cells + 1 offsets, then the entries), then the segment
+// table as 8 words per segment (VolSegment's a, b as float bits). The
+// offsets' base and the segment table's:
+FT_FUNC uint ftVolCandidateBase(VolParams p) { return p.dims.x * p.dims.y * p.dims.z; }
+FT_FUNC uint ftVolCellCount(VolParams p) { return p.grid.x * p.grid.y * p.grid.z; }
+
+// The candidate cell of a wrapped voxel (cells of grid.w³ voxels).
+FT_FUNC uint ftVolCellOf(ivec3 wrapped, VolParams p) {
+  uint B = p.grid.w;
+  return (uint(wrapped.z) / B * p.grid.y + uint(wrapped.y) / B) * p.grid.x + uint(wrapped.x) / B;
 }
 
 FT_NAMESPACE_END

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 #include "gpu/compute_dispatch.h"
@@ -42,7 +43,14 @@ void ExemplarVolumeGpu::build(const VolParams& p, std::span<const VolSegment> se
   const Buffer u = Buffer::create(sizeof(VolParams), &p);
   const Buffer segs = Buffer::create(segments.size() * sizeof(VolSegment), segments.data());
   const Buffer c = Buffer::create(cand.size() * 4, cand.data());
-  ids_ = Buffer::create(voxels * 4);
+  // The ids (written by the build), then the candidate lists and the segment
+  // table for the capsule ids (common/exemplar_volume.h ftVolCandidateBase).
+  std::vector<uint32_t> all(voxels, 0u);
+  all.insert(all.end(), cand.begin(), cand.end());
+  const size_t segBase = all.size();
+  all.resize(segBase + segments.size() * (sizeof(VolSegment) / 4));
+  std::memcpy(all.data() + segBase, segments.data(), segments.size() * sizeof(VolSegment));
+  ids_ = Buffer::create(all.size() * 4, all.data());
   u.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_VOL);
   segs.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_VOL_SEGMENTS);
   c.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_REQUESTS);
@@ -56,9 +64,10 @@ std::vector<uint32_t> ExemplarVolumeGpu::ids() const {
 
 void ExemplarVolumeGpu::sampleNoReadback(const VolParams& rays) {
   if (ids_.id() == 0) throw std::logic_error("ExemplarVolumeGpu::sample before build");
-  if (rays.ray.x == 0 || rays.ray.y == 0 || rays.ray.z == 0 || rays.ray.z > FT_VOL_MAX_SAMPLES)
-    throw std::invalid_argument(fmt::format("ExemplarVolumeGpu::sample: {} × {} rays, {} samples (1..{})", rays.ray.x,
-                                            rays.ray.y, rays.ray.z, FT_VOL_MAX_SAMPLES));
+  if (rays.ray.x == 0 || rays.ray.y == 0 || rays.ray.z == 0 || rays.ray.z > FT_VOL_MAX_SAMPLES ||
+      (ftVolIdMode(rays) != FT_VOL_IDS_MIDPOINT && ftVolIdMode(rays) != FT_VOL_IDS_CAPSULE))
+    throw std::invalid_argument(fmt::format("ExemplarVolumeGpu::sample: {} × {} rays, {} samples (1..{}), ids {}",
+                                            rays.ray.x, rays.ray.y, rays.ray.z, FT_VOL_MAX_SAMPLES, rays.camDir.w));
   VolParams p = layout_;
   p.ray = rays.ray;
   p.camPos = rays.camPos;

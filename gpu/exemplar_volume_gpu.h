@@ -4,7 +4,10 @@
 // candidate lists of a uniform grid (exemplar_volume_build.comp.glsl), then
 // cast eye rays by volume sampling into a G-buffer
 // (exemplar_volume_sample.comp.glsl). The volume stays on the GPU between
-// build() and sample().
+// build() and sample(); its buffer carries, after the voxels' ids, the
+// candidate lists and the segment table that the capsule ids test
+// (common/exemplar_volume.h ftVolCandidateBase; llvmpipe has no free SSBO
+// slot for them, and sample() then binds nothing beyond slots 64 and 40).
 #pragma once
 #include <epoxy/gl.h>
 
@@ -33,8 +36,8 @@ class ExemplarVolumeGpu {
              std::span<const uint32_t> entries);
   // The built volume's ids (nx·ny·nz).
   std::vector<uint32_t> ids() const;
-  // The G-buffer of the rays of `rays` (its ray and cam* fields) through the
-  // built volume, row-major.
+  // The G-buffer of the rays of `rays` (its ray and cam* fields; camDir.w the
+  // id, FT_VOL_IDS_*) through the built volume, row-major.
   std::vector<VolHit> sample(const VolParams& rays);
   // Dispatch only, no read-back (for timing): the G-buffer stays on the GPU.
   void sampleNoReadback(const VolParams& rays);

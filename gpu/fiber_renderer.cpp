@@ -10,6 +10,7 @@
 #include "common/constants.h"
 #include "common/flyaway.h"
 #include "gpu/compute_dispatch.h"
+#include "gpu/gpu_timer.h"
 #include "gpu/shader_library.h"
 #include "scene/camera.h"
 
@@ -548,13 +549,19 @@ bool FiberRenderer::cullsView(const FiberGpu& fibers) const {
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height, FrameTimings* timings) {
   if (!shadingUbo_) throw std::logic_error("FiberRenderer: setShading() before a shaded frame");
   auto t = std::chrono::steady_clock::now();
-  // Ends a phase: with `timings`, finishes it and adds its time to `ms`.
-  auto phase = [&](double& ms) {
+  double cpu = timings ? processCpuMs() : 0.0, frameCpu = cpu;
+  // Ends a phase: with `timings`, finishes it and adds its time to `ms`
+  // (and its CPU time to `cpuMs`).
+  double noCpu = 0;
+  auto phase = [&](double& ms, double& cpuMs) {
     if (!timings) return;
     glFinish();
     const auto now = std::chrono::steady_clock::now();
     ms += std::chrono::duration<double, std::milli>(now - t).count();
     t = now;
+    const double c = processCpuMs();
+    cpuMs += c - cpu;
+    cpu = c;
   };
   if (timings) *timings = FrameTimings{};
   double building = 0;
@@ -566,7 +573,8 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
                               ds ? (env ? StripPass::ShadedDualScatteringEnvironment : StripPass::ShadedDualScattering)
                                  : (env ? StripPass::ShadedEnvironment : StripPass::Shaded),
                               pcss);
-  phase(building);  // a program's first build is not a phase of the frame
+  phase(building, noCpu);  // a program's first build is not a phase of the frame
+  frameCpu = cpu;
   if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u &&
       ((shadowModel_ != fibers.modelVersion() && !faultShadowMapStale_) || shadowInputs_ != inputsVersion_ ||
        !shadowTexels_))
@@ -574,12 +582,12 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   if (inputs_.lobeShadowEnvironment &&
       (lobeModel_ != fibers.modelVersion() || lobeInputs_ != inputsVersion_ || lobeLayers_ == 0))
     drawLobeShadowMaps(fibers, *inputs_.lobeShadowEnvironment, inputs_.lobeShadowMapSize);
-  if (timings) phase(timings->shadowMapMs);
+  if (timings) phase(timings->shadowMapMs, noCpu);
   fibers.prepareDraw(path);
-  if (timings) phase(timings->generateMs);
+  if (timings) phase(timings->generateMs, noCpu);
   if (cullsView(fibers)) drawOccluders(fibers, path, width, height);
   else bindOcclusion(false);
-  if (timings) phase(timings->depthMs);
+  if (timings) phase(timings->depthMs, timings->depthCpuMs);
   // 32-bit float: the ground-truth comparison needs more than half's 11 bits.
   if (!shadedTarget_ || shadedTarget_->width != width || shadedTarget_->height != height)
     shadedTarget_ = std::make_unique<MultisampleTarget>(width, height, GL_RGBA32F);
@@ -588,13 +596,17 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   if (deferred_) {
     drawDeferred(fibers, path, ds, env, pcss, timings);
     t = std::chrono::steady_clock::now();
+    if (timings) cpu = processCpuMs();
   } else {
     setUniform(prog, "shaded", 1u);
     fibers.draw(path, prog);
   }
   if ((inputs_.params.flags.w & FT_APPEARANCE_FLYAWAYS) != 0u) drawFlyaways(fibers);  // the third pass
   shadedTarget_->finish();
-  if (timings) phase(deferred_ ? timings->deferredMs : timings->shadeMs);
+  if (timings) {
+    phase(deferred_ ? timings->deferredMs : timings->shadeMs, deferred_ ? noCpu : timings->shadeCpuMs);
+    timings->totalCpuMs = cpu - frameCpu;
+  }
 }
 
 // Deferred shading (docs/shaded-frame.md): on llvmpipe every rasterised
@@ -608,6 +620,7 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
     deferredTarget_ = std::make_unique<DeferredTarget>(width, height, shadedTarget_->depth.id());
   DeferredTarget& dt = *deferredTarget_;
   auto t = std::chrono::steady_clock::now();
+  const double cpu = timings ? processCpuMs() : 0.0;
   // 1. The visibility pass: the forward pass's casts, coverage, core texture
   // and depth, writing the hit records (0: no fiber) into the shared depth.
   glBindFramebuffer(GL_FRAMEBUFFER, dt.fbo.id());
@@ -620,6 +633,7 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
     glFinish();
     const auto now = std::chrono::steady_clock::now();
     timings->shadeMs += std::chrono::duration<double, std::milli>(now - t).count();
+    timings->shadeCpuMs += processCpuMs() - cpu;
   }
   // 2. The compaction: each pixel's distinct records, one entry each.
   if (!compactProgram_) compactProgram_ = Program(buildProgram({"shaders/fiber_compact.comp.glsl"}, defines_));

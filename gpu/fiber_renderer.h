@@ -47,6 +47,10 @@ struct FrameTimings {
   double depthMs = 0;       // the depth pre-pass (capsule coverage and depth only)
   double shadeMs = 0;       // the shaded pass over the visible capsules (deferred: the visibility pass)
   double deferredMs = 0;    // deferred shading: the compaction, the shading of the list and the resolve
+  // CPU time of the process (all threads, processCpuMs) in the occluder pass,
+  // the shaded (visibility) pass and the whole frame: the work, less
+  // sensitive than wall time to other jobs on a shared machine.
+  double depthCpuMs = 0, shadeCpuMs = 0, totalCpuMs = 0;
   double totalMs() const { return shadowMapMs + generateMs + depthMs + shadeMs + deferredMs; }
 };
 

@@ -1,5 +1,7 @@
 #include "gpu/gpu_timer.h"
 
+#include <sys/resource.h>
+
 #include <stdexcept>
 
 namespace ft {
@@ -37,5 +39,11 @@ double GpuTimer::endMs() {
 }
 
 const char* GpuTimer::method() const { return useQueries_ ? "GL_TIME_ELAPSED" : "glFinish+steady_clock"; }
+
+double processCpuMs() {
+  rusage u{};
+  if (getrusage(RUSAGE_SELF, &u) != 0) return 0.0;
+  return 1e3 * double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-3 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 }  // namespace ft

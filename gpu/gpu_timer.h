@@ -35,4 +35,10 @@ class GpuTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
+// CPU time of this process, all threads, in milliseconds (getrusage: user +
+// system). On llvmpipe the frame is CPU work; on a machine shared with other
+// jobs its wall time varies by 2x with their load, its CPU time far less, so
+// profiles quote both (docs/shaded-frame.md).
+double processCpuMs();
+
 }  // namespace ft

@@ -7,13 +7,16 @@
 //     voxels), the (segment, copy) pairs whose grown bounding box reaches it;
 //   * buildExemplarVolumeCpu: per voxel, brute force over its cell's
 //     candidates: the conservative capsule–box test, the nearest midpoint;
-//   * sampleVolumeCpu: the scalar ray sampler → G-buffer (id, flat point);
+//   * sampleVolumeCpu: the scalar ray sampler → G-buffer (id, flat point):
+//     004's nearest midpoint at the first non-empty sample, or the first exact
+//     capsule hit among the candidates of the cells crossed;
 //   * VolumeTruth: Embree first hits against the real capsules (round linear
 //     curves) of the tiled exemplar.
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -45,6 +48,10 @@ struct ExemplarVolume {
   // touching capsules with a different id (+∞ when fewer than two), in units
   // of h: voxels with a gap below ~1e-6 are ties that float rounding decides.
   std::vector<float> tieGap;
+  // What the capsule ids need (buildExemplarVolumeCpu copies them): the
+  // block's segment table and the candidate lists of the layout.
+  std::vector<VolSegment> segments;
+  VolumeCandidates candidates;
 };
 // TBB over voxels.
 ExemplarVolume buildExemplarVolumeCpu(const Exemplar& block, const VolParams& layout,
@@ -59,14 +66,25 @@ struct VolCamera {
   float halfWidth = 1.0f;          // ortho: length; pinhole: tan(fov_x / 2)
   float halfHeight = 1.0f;
 };
-// Writes the camera and (width, height, samples) into layout. Throws
-// std::invalid_argument for sizes ≤ 0, samples outside 1 … FT_VOL_MAX_SAMPLES
-// or a degenerate camera.
-void setVolumeRays(VolParams& layout, const VolCamera& camera, int width, int height, int samples);
+// Writes the camera, (width, height, samples) and the id (FT_VOL_IDS_*, in
+// camDir.w) into layout. Throws std::invalid_argument for sizes ≤ 0, samples
+// outside 1 … FT_VOL_MAX_SAMPLES, an unknown id or a degenerate camera.
+void setVolumeRays(VolParams& layout, const VolCamera& camera, int width, int height, int samples,
+                   uint32_t ids = FT_VOL_IDS_MIDPOINT);
 
-// The scalar sampler: per pixel (row-major), the first non-empty sample.
-// faceDistance (optional, per pixel): the smallest distance to a voxel face,
-// in units of h, over the samples read (all of them on a miss).
+// "midpoint" / "capsule" ↔ FT_VOL_IDS_*; parseVolumeIds throws InputError naming the value.
+uint32_t parseVolumeIds(const std::string& name);
+const char* volumeIdsName(uint32_t ids);
+
+// The scalar sampler: per pixel (row-major), by rays.camDir.w's id: the first
+// non-empty sample (FT_VOL_IDS_MIDPOINT) or the first capsule hit
+// (FT_VOL_IDS_CAPSULE: exact point, N unused; throws std::invalid_argument
+// when the volume has no candidates).
+// faceDistance (optional, per pixel): midpoint ids: the smallest distance to
+// a voxel face, in units of h, over the samples read (all of them on a miss);
+// capsule ids: the smallest |t − t'| / h between the hit and another
+// candidate's entry (+∞ for none: ties between capsules, e.g. at the joint of
+// two segments of a fiber, are decided by float rounding).
 std::vector<VolHit> sampleVolumeCpu(const ExemplarVolume& volume, const VolParams& rays,
                                     std::vector<float>* faceDistance = nullptr);
 

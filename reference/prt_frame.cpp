@@ -36,6 +36,8 @@ void checkPrtFrameSettings(const PrtFrameSettings& s) {
   need(s.width >= 1 && s.width <= 4096, "--width (1..4096)", s.width);
   need(s.height >= 1 && s.height <= 4096, "--height (1..4096)", s.height);
   need(s.volumeSamples >= 1 && s.volumeSamples <= int(FT_VOL_MAX_SAMPLES), "--volume-samples (1..4096)", s.volumeSamples);
+  need(s.volumeIds == FT_VOL_IDS_MIDPOINT || s.volumeIds == FT_VOL_IDS_CAPSULE, "--volume-ids (0 midpoint, 1 capsule)",
+       s.volumeIds);
   need(s.voxelsPerDiameter >= 1 && s.voxelsPerDiameter <= 4, "--voxels-per-diameter (1..4)", s.voxelsPerDiameter);
   need(s.svfSize >= 8 && s.svfSize <= 512 && s.svfSize % 2 == 0, "--svf-size (even, 8..512)", s.svfSize);
   need(s.bands >= 1 && s.bands <= FT_SH_BANDS, "--bands (1..FT_SH_BANDS)", s.bands);
@@ -209,7 +211,7 @@ VolParams PrtFrameScene::rays(const PrtFrameView& view) const {
   cam.position = centre + dist * view.wo;
   cam.halfWidth = cam.halfHeight = 0.5f * P;
   VolParams p = m.volume.layout;
-  setVolumeRays(p, cam, m.s.width, m.s.height, m.s.volumeSamples);
+  setVolumeRays(p, cam, m.s.width, m.s.height, m.s.volumeSamples, m.s.volumeIds);
   return p;
 }
 
@@ -217,7 +219,7 @@ PrtFrameParts PrtFrameScene::renderPrt(const PrtFrameView& view) {
   Impl& m = *impl_;
   const VolParams rp = rays(view);
   const auto gbufferOf = [&] {
-    if (!m.s.embreeGBuffer) return sampleVolumeCpu(m.volume, rp);  // 004 §5.1
+    if (!m.s.embreeGBuffer) return sampleVolumeCpu(m.volume, rp);  // 004 §5.1 (or the capsule ids)
     std::vector<VolHit> g(size_t(m.s.width) * size_t(m.s.height), VolHit{});
     tbb::parallel_for(size_t(0), g.size(), [&](size_t i) {
       const uint32_t x = uint32_t(i % size_t(m.s.width)), y = uint32_t(i / size_t(m.s.width));

@@ -35,7 +35,10 @@ struct PrtFrameSettings {
   ExemplarSettings exemplar;      // the block (fibersPerPly 0: the preset's count)
   int tiles = 5;                  // N × N copies (Embree scenes)
   int width = 32, height = 32;    // the image
-  int volumeSamples = 256;        // N per eye ray (004 §5.1)
+  int volumeSamples = 256;        // N per eye ray (004 §5.1; midpoint ids)
+  // The G-buffer's id (docs/exemplar-volume.md "Ids"): FT_VOL_IDS_CAPSULE (the first exact
+  // capsule hit among the volume's candidates) or FT_VOL_IDS_MIDPOINT (004 §5.1's nearest midpoint).
+  uint32_t volumeIds = FT_VOL_IDS_CAPSULE;
   bool embreeGBuffer = false;     // experiment: the G-buffer from Embree first hits on the capsules, not the volume
   int voxelsPerDiameter = 1;      // volume voxels per fiber diameter (1: h ≈ 2 r_f, notes §8.7)
   int svfSize = 32;               // the visibility image is svfSize × svfSize (004: 128)

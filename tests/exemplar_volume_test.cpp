@@ -3,7 +3,9 @@
 // wrap, voxel coordinates and centres, sample centres along a ray, the slab
 // interval, the conservative capsule–box test; a small volume built through
 // the candidate grid equal to all-pairs brute force; the scalar sampler on a
-// one-voxel volume; bad input. CPU vs GPU and the Embree truth live in the
+// one-voxel volume; the capsule ids (ray–capsule entry against a double
+// root search, the whole walk against brute force over the tiled capsules);
+// bad input. CPU vs GPU and the Embree truth live in the
 // harness (validation/exemplar_volume_cases.cpp).
 #include <gtest/gtest.h>
 
@@ -207,6 +209,176 @@ TEST(ExemplarVolume, SamplerFindsTheOneVoxel) {
     }
   EXPECT_EQ(hits, 1);
   for (float f : face) EXPECT_GT(f, 0.0f);
+}
+
+// ---- capsule ids ---------------------------------------------------------------
+// The entry of a ray into a capsule in double, written here: the smallest root
+// of dist(o + t d, segment) = r by sphere tracing (no quadratics).
+double entryBySphereTracing(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& a, const glm::dvec3& b, double r,
+                       double tMax) {
+  auto dist = [&](double t) {
+    const glm::dvec3 p = o + t * d, ab = b - a;
+    const double u = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
+    return glm::length(p - (a + u * ab)) - r;
+  };
+  // Sphere tracing: dist is 1-Lipschitz in t (|d| = 1), so a step of dist(t) never passes the surface.
+  double t = 0.0;
+  for (int i = 0; i < 1000000 && t < tMax; ++i) {
+    const double f = dist(t);
+    if (f < 1e-10) return t;
+    t += f;
+  }
+  return -1.0;
+}
+
+TEST(ExemplarVolume, RayCapsuleEntryMatchesSphereTracing) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  int hits = 0, misses = 0;
+  for (int i = 0; i < 300; ++i) {
+    const glm::vec3 a(u(rng), u(rng), u(rng)), b = a + 0.6f * glm::vec3(u(rng), u(rng), u(rng));
+    const float r = 0.05f + 0.2f * std::abs(u(rng));
+    // Rays from 3 units away aimed near the capsule (some hit, some pass).
+    const glm::vec3 target = 0.5f * (a + b) + 0.4f * glm::vec3(u(rng), u(rng), u(rng));
+    const glm::vec3 o = target + 3.0f * glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 d = glm::normalize(target - o);
+    const float t = ftVolRayCapsule(o, d, a, b, r);
+    const double tr = entryBySphereTracing(glm::dvec3(o), glm::dvec3(d), glm::dvec3(a), glm::dvec3(b), r, 8.0);
+    if (tr < 0.0) {
+      ++misses;
+      EXPECT_LT(t, 0.0f) << "ray " << i;
+    } else {
+      ++hits;
+      EXPECT_NEAR(double(t), tr, 1e-4) << "ray " << i;  // float roots; a grazing entry's small discriminant amplifies
+    }
+  }
+  EXPECT_GT(hits, 50);
+  EXPECT_GT(misses, 50);
+  // Along the axis: the end sphere; a ray starting beyond the capsule: none.
+  EXPECT_NEAR(ftVolRayCapsule(glm::vec3(-2, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), 0.25f), 1.75f,
+              1e-6f);
+  EXPECT_LT(ftVolRayCapsule(glm::vec3(3, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), 0.25f), 0.0f);
+}
+
+// Brute force in double over the tiled capsules (all copies within ±4 P),
+// the entry by the quadratics written here (lateral + end spheres).
+struct Brute {
+  uint32_t id = 0;
+  double t = -1.0, gap = 1e300;
+  double graze = 1e300;  // min over capsules of |distance(ray line, axis) − r|: a silhouette
+};
+Brute bruteFirstHit(const Exemplar& e, const glm::dvec3& o, const glm::dvec3& d) {
+  std::vector<std::pair<double, uint32_t>> all;
+  double graze = 1e300;
+  for (uint32_t k = 0; k < e.segments.size(); ++k)
+    for (int ty = -4; ty <= 4; ++ty)
+      for (int tx = -4; tx <= 4; ++tx) {
+        const glm::dvec3 off(tx * double(e.period), ty * double(e.period), 0.0);
+        const glm::dvec3 a = glm::dvec3(e.segments[k].a) + off, b = glm::dvec3(e.segments[k].b) + off;
+        const double r = e.segments[k].radius;
+        {  // the line–segment distance: |(a − o)⊥ + u (b − a)⊥| minimised over u ∈ [0, 1] (⊥ to d)
+          const glm::dvec3 w = (a - o) - glm::dot(a - o, d) * d, ab = (b - a) - glm::dot(b - a, d) * d;
+          const double uu = glm::dot(ab, ab) > 0.0 ? std::clamp(-glm::dot(w, ab) / glm::dot(ab, ab), 0.0, 1.0) : 0.0;
+          graze = std::min(graze, std::abs(glm::length(w + uu * ab) - r));
+        }
+        double best = -1.0;
+        auto keep = [&](double t) {
+          if (t >= 0.0 && (best < 0.0 || t < best)) best = t;
+        };
+        for (const glm::dvec3& c : {a, b}) {  // spheres: |o + t d − c|² = r²
+          const glm::dvec3 oc = o - c;
+          const double B = glm::dot(oc, d), C = glm::dot(oc, oc) - r * r, D = B * B - C;
+          if (D >= 0.0) keep(-B - std::sqrt(D));
+        }
+        const glm::dvec3 ax = glm::normalize(b - a), oa = o - a;  // cylinder
+        const glm::dvec3 dp = d - glm::dot(d, ax) * ax, op = oa - glm::dot(oa, ax) * ax;
+        const double A = glm::dot(dp, dp), B = glm::dot(dp, op), C = glm::dot(op, op) - r * r, D = B * B - A * C;
+        if (A > 0.0 && D >= 0.0) {
+          const double t = (-B - std::sqrt(D)) / A, y = glm::dot(oa + t * d, ax);
+          if (y >= 0.0 && y <= glm::length(b - a)) keep(t);
+        }
+        if (best >= 0.0) all.push_back({best, k + 1});
+      }
+  Brute out;
+  out.graze = graze;
+  if (all.empty()) return out;
+  std::sort(all.begin(), all.end());
+  out.t = all[0].first;
+  out.id = all[0].second;
+  for (size_t i = 1; i < all.size(); ++i)
+    if (all[i].second != out.id) {
+      out.gap = all[i].first - out.t;
+      break;
+    }
+  return out;
+}
+
+TEST(ExemplarVolume, CapsuleIdsEqualBruteForce) {
+  const Exemplar e = tinyBlock();
+  // 20 voxels a period in cells of 3: the last cell of each row is partial.
+  const VolParams p = makeVolumeLayout(e, 20, 3);
+  const ExemplarVolume v = buildExemplarVolumeCpu(e, p, buildVolumeCandidates(e, p));
+  const float h = p.origin.w;
+  int compared = 0, hits = 0, skipped = 0;
+  for (int camera = 0; camera < 2; ++camera) {
+    VolCamera cam;
+    if (camera == 0) {  // orthographic, 40° off the normal over [−1.5, 1.5]²
+      cam.type = FT_VOL_CAMERA_ORTHO;
+      cam.direction = glm::vec3(0.55f, -0.3f, -0.78f);
+      cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
+      cam.position = glm::vec3(0.2f, 0.1f, 0.0f) - 2.0f * cam.direction;
+      cam.halfWidth = cam.halfHeight = 1.5f;
+    } else {  // pinhole above the block
+      cam.type = FT_VOL_CAMERA_PINHOLE;
+      cam.direction = glm::vec3(0.3f, 0.2f, -1.0f);
+      cam.up = glm::vec3(0.0f, 0.0f, 1.0f);
+      cam.position = glm::vec3(0.0f, 0.0f, 0.8f);
+      cam.halfWidth = cam.halfHeight = 1.0f;
+    }
+    VolParams rays = v.layout;
+    setVolumeRays(rays, cam, 48, 48, 1, FT_VOL_IDS_CAPSULE);
+    const std::vector<VolHit> g = sampleVolumeCpu(v, rays);
+    for (uint32_t y = 0; y < 48; ++y)
+      for (uint32_t x = 0; x < 48; ++x) {
+        const glm::vec3 o = ftVolRayOrigin(rays, x, y), d = ftVolRayDirection(rays, x, y);
+        const Brute b = bruteFirstHit(e, glm::dvec3(o), glm::dvec3(d));
+        const VolHit& hit = g[size_t(y) * 48 + x];
+        // A tie (a joint: either id is right) or a silhouette within float of the surface (hit or miss).
+        if (b.gap < 1e-4 * h || b.graze < 1e-4 * h) {
+          ++skipped;
+          continue;
+        }
+        ++compared;
+        ASSERT_EQ(hit.id, b.id) << "camera " << camera << " pixel " << x << " " << y;
+        if (b.id == 0) continue;
+        ++hits;
+        const glm::dvec3 q = glm::dvec3(o) + b.t * glm::dvec3(d);
+        // float: o + t d at |p| ≲ 3 P, and a grazing entry's small discriminant amplifies the rounding
+        EXPECT_LT(glm::length(glm::dvec3(hit.point) - q), 1e-3 * h) << "camera " << camera << " pixel " << x << " " << y;
+      }
+  }
+  EXPECT_GT(compared, 4000);
+  EXPECT_GT(hits, 500);
+  EXPECT_LT(skipped, 50);
+}
+
+TEST(ExemplarVolume, CapsuleIdsNeedCandidatesAndNamedModes) {
+  ExemplarVolume v;  // ids only: no segment table, no candidates
+  v.layout = smallLayout();
+  v.ids.assign(512, 0u);
+  VolParams rays = v.layout;
+  VolCamera cam;
+  setVolumeRays(rays, cam, 4, 4, 8, FT_VOL_IDS_CAPSULE);
+  EXPECT_THROW(sampleVolumeCpu(v, rays), std::invalid_argument);
+  EXPECT_THROW(setVolumeRays(rays, cam, 4, 4, 8, 7u), std::invalid_argument);
+  EXPECT_EQ(parseVolumeIds("capsule"), FT_VOL_IDS_CAPSULE);
+  EXPECT_EQ(parseVolumeIds("midpoint"), FT_VOL_IDS_MIDPOINT);
+  try {
+    parseVolumeIds("nearest");
+    FAIL() << "no throw";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("nearest"), std::string::npos);
+  }
 }
 
 TEST(ExemplarVolume, CameraRays) {

@@ -54,6 +54,7 @@ struct CaseResult {
   double cpuMilliseconds = 0.0;
   double gpuMilliseconds = 0.0;
   std::string gpuTiming;       // how gpuMilliseconds was measured
+  double wallMilliseconds = 0.0;  // the whole case as the harness saw it: set-up, bakes, images included
   std::vector<std::string> images;  // file names relative to the report folder
   std::vector<std::string> imageCaptions;  // one per image; empty: "CPU reference", then "GPU <path>"
   std::string details;         // first mismatches, for a person reading the report

@@ -233,7 +233,8 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
     c["path"] = r.path;
     c["pass"] = r.pass;
     if (!r.error.empty()) c["error"] = r.error;
-    c["timing"] = {{"cpu_ms", r.cpuMilliseconds}, {"gpu_ms", r.gpuMilliseconds}, {"gpu_method", r.gpuTiming}};
+    c["timing"] = {{"cpu_ms", r.cpuMilliseconds}, {"gpu_ms", r.gpuMilliseconds}, {"gpu_method", r.gpuTiming},
+                   {"wall_ms", r.wallMilliseconds}};
     json ms = json::array();
     for (const Metric& m : r.metrics)
       ms.push_back({{"name", m.name},
@@ -334,7 +335,7 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
   h << "<div class='controls'><label>Find <input id='case-filter' type='search' placeholder='case name'></label>"
        "<label><input id='only-failures' type='checkbox'> only failures</label><span id='shown-count'></span></div>\n";
   h << "<table class='cases'><thead><tr><th>case</th><th>result</th><th>metrics: value, tolerance, margin</th>"
-       "<th>error histogram</th><th>images</th><th>ms<br>cpu / gpu</th></tr></thead><tbody>\n";
+       "<th>error histogram</th><th>images</th><th>ms<br>cpu / gpu / wall</th></tr></thead><tbody>\n";
   for (const CaseResult* rp : order) {
     const CaseResult& r = *rp;
     h << "<tr class='case " << (r.pass ? "passed" : "failed") << "' id='" << anchor(r.name) << "' data-name='"
@@ -385,7 +386,8 @@ void writeReport(const HarnessOptions& options, const GlInfo& gl, const std::str
       h << "<figure><img src='" << escape(r.images[i]) << "' width='120' alt='" << escape(caption) << ", "
         << escape(r.name) << "'><figcaption>" << escape(caption) << "</figcaption></figure>";
     }
-    h << fmt::format("</td><td class='num'>{:.1f} / {:.1f}</td></tr>\n", r.cpuMilliseconds, r.gpuMilliseconds);
+    h << fmt::format("</td><td class='num'>{:.1f} / {:.1f} / {:.0f}</td></tr>\n", r.cpuMilliseconds, r.gpuMilliseconds,
+                     r.wallMilliseconds);
   }
   h << "</tbody></table>\n<h2>Injectable faults</h2><p class='legend'><code>fibertwin validate --inject NAME</code> "
        "builds the GPU side with one of these bugs; each must fail a case (validation/faults.def).</p><ul>";
