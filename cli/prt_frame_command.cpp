@@ -4,14 +4,62 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <memory>
+#include <utility>
 #include <ostream>
 #include <sstream>
 
+#include "gpu/exemplar_volume_gpu.h"
+#include "gpu/gl_context.h"
+#include "gpu/prt_frame_gpu.h"
+#include "gpu/prt_multiple_scattering_gpu.h"
+#include "gpu/prt_single_scattering_gpu.h"
 #include "image/image_io.h"
 #include "scene/input_error.h"
 
 namespace ft {
+
+namespace {
+// The frame by PrtFrameRendererGpu (the scene's bakes done by a CPU frame first): total,
+// single and multiple as PrtFrameParts; seconds = one frame after a first (driver compile) one.
+PrtFrameParts renderPrtGpu(PrtFrameScene& scene, const PrtFrameView& view, std::ostream& out) {
+  const std::unique_ptr<GlContext> gl = GlContext::create(glBackendFromEnv());
+  const PrtFrameSettings& s = scene.settings();
+  PrtFrameParts parts;
+  {
+    ExemplarVolumeGpu vol(gl->info());
+    PrtSingleScatteringGpu ss(gl->info());
+    PrtMultipleScatteringGpu ms(gl->info());
+    PrtFrameRendererGpu frame(gl->info());
+    const PrtFrameData d = scene.gpuData();
+    const std::vector<float> table = ss.bakeTable(std::span<const FabricParams>(&d.fabric, 1));
+    const PrtMsGpuTables tables = ms.tables(d.fabric, s.msThetaINodes, s.msPhiNodes);
+    vol.build(d.layout, d.segments, d.candidates.start, d.candidates.entries);
+    const glm::vec4 light(view.light, view.lambda);
+    const PrtFrameGpuInputs in = prtFrameGpuInputs(d, scene.rays(view), table, tables, s.bands, light);
+    frame.upload(in);
+    frame.render(vol, in.rays, light);  // the driver compiles on first use
+    const auto t0 = std::chrono::steady_clock::now();
+    const PrtFrameGpuImage im = frame.render(vol, in.rays, light, true);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::pair<PrtFrameImage*, const std::vector<glm::vec4>*> images[] = {
+        {&parts.total, &im.total}, {&parts.single, &im.single}, {&parts.multi, &im.multi}};
+    for (const auto& [dst, src] : images) {
+      dst->width = im.width, dst->height = im.height, dst->seconds = seconds;
+      dst->rgb.resize(src->size());
+      for (size_t i = 0; i < src->size(); ++i) {
+        dst->rgb[i] = glm::vec3((*src)[i]);
+        dst->covered += uint64_t((*src)[i].w > 0.5f);
+      }
+    }
+    out << fmt::format("GPU frame ({}): {:.3f} s\n", gl->info().renderer, seconds);
+  }
+  return parts;
+}
+}  // namespace
 
 glm::vec3 parseDirection(const std::string& option, const std::string& text) {
   std::stringstream ss(text);
@@ -60,6 +108,8 @@ CLI::App* addPrtFrameCommand(CLI::App& app, PrtFrameCommandOptions& o) {
   c->add_option("--exposure", o.exposure, "PNG exposure in stops")->capture_default_str();
   c->add_flag("--embree-gbuffer", f.embreeGBuffer, "experiment: PRT shading at the capsules' Embree first hits, not the volume's ids");
   c->add_flag("--no-reference", o.noReference, "PRT only (no path tracing)");
+  c->add_flag("--gpu", o.gpu, "the PRT image by the GPU frame (EGL/llvmpipe; bakes on the CPU); prints its difference "
+                             "to the CPU frame");
   return c;
 }
 
@@ -74,14 +124,30 @@ int runPrtFrameCommand(const PrtFrameCommandOptions& o, std::ostream& out) {
   if (!o.volumeIds.empty()) settings.volumeIds = parseVolumeIds(o.volumeIds);
   PrtFrameScene scene(settings);
   const double setup = scene.bakeSeconds();
-  const PrtFrameParts prt = scene.renderPrt(view);
+  PrtFrameParts prt = scene.renderPrt(view);  // with --gpu: the bakes, and the CPU frame to compare with
+  if (o.gpu) {
+    const PrtFrameParts cpu = std::move(prt);
+    prt = renderPrtGpu(scene, view, out);
+    double peak = 0.0, diff = 0.0;
+    uint64_t idsDiffer = 0;
+    for (size_t i = 0; i < cpu.total.rgb.size(); ++i)
+      for (int ch = 0; ch < 3; ++ch) {
+        peak = std::max(peak, double(cpu.total.rgb[i][ch]));
+        diff = std::max(diff, std::abs(double(prt.total.rgb[i][ch]) - cpu.total.rgb[i][ch]));
+      }
+    for (size_t i = 0; i < cpu.total.rgb.size(); ++i)
+      idsDiffer += uint64_t((cpu.total.rgb[i] != glm::vec3(0.0f)) != (prt.total.rgb[i] != glm::vec3(0.0f)));
+    out << fmt::format("CPU frame {:.3f} s; max |GPU − CPU| / peak {:.3g} over all pixels (G-buffer ties included), "
+                       "{} pixels lit on one side only\n",
+                       cpu.total.seconds, peak > 0.0 ? diff / peak : 0.0, idsDiffer);
+  }
   out << fmt::format("exemplar: {} ({} segments), {} tiles; mean free path {:.5g}, {} IIRTF cells\n", scene.block().label,
                      scene.block().segments.size(), o.frame.tiles, scene.meanFreePath(), scene.cellCount());
   out << fmt::format("bakes: {:.2f} s (setup {:.2f} s; visibility of {} segments, IIRTF of {} cells)\n", scene.bakeSeconds(),
                      setup, scene.svfBaked(), scene.cellsBaked());
-  out << fmt::format("PRT: {}x{}, G-buffer ids {}, {} px covered, average {:.6g} (single {:.6g}, multiple {:.6g}), "
+  out << fmt::format("PRT{}: {}x{}, G-buffer ids {}, {} px covered, average {:.6g} (single {:.6g}, multiple {:.6g}), "
                      "frame {:.3f} s\n",
-                     prt.total.width, prt.total.height,
+                     o.gpu ? " (GPU frame)" : "", prt.total.width, prt.total.height,
                      settings.embreeGBuffer ? "embree" : volumeIdsName(settings.volumeIds), prt.total.covered, prt.total.average(), prt.single.average(),
                      prt.multi.average(), prt.total.seconds);
   const DisplayMapping display{o.exposure, ToneMap::Aces};

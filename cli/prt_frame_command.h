@@ -2,7 +2,8 @@
 // rendered by the fabric PRT of Khungurn et al. 2017 (004 §5) and by the
 // Embree path tracer with the same fibers, BCSDF, camera and light; writes
 // both (EXR + PNG) and prints 004 Fig. 13's average intensities, the images'
-// RMSE and FLIP, and the times (docs/prt-frame.md).
+// RMSE and FLIP, and the times (docs/prt-frame.md). --gpu: the PRT image by
+// the GPU frame (the bakes stay on the CPU), the CPU frame's difference printed.
 #pragma once
 #include <iosfwd>
 #include <string>
@@ -24,6 +25,7 @@ struct PrtFrameCommandOptions {
   float exposure = 0.0f;                // PNG exposure in stops
   bool noReference = false;
   std::string volumeIds;                // "" : the settings' default; midpoint | capsule
+  bool gpu = false;                     // the PRT image by the GPU frame (gpu/prt_frame_gpu.h PrtFrameRendererGpu)
 };
 
 // "x,y,z" → the unit vector; InputError naming the option for anything else or zero.

@@ -175,6 +175,10 @@
 #define FT_SSBO_PRT_FRAME 35         // the PRT frame's per-pixel records (common/prt_frame.h PrtFramePixel)
 #define FT_UBO_PRT_FRAME 23          // PrtFrameParams (common/prt_frame.h)
 #define FT_WG_PRT_FRAME 64           // its compute program: pixels per work group
+// The single-pass GPU frame (gpu/prt_frame_gpu.h PrtFrameRendererGpu). Its one
+// storage buffer (image, c_T per cell, shading per segment, rotation scratch)
+// binds at FT_SSBO_PRT_FRAME: llvmpipe has no SSBO binding 80 or above.
+#define FT_UBO_PRT_FRAME_GPU 24      // PrtFrameGpuParams (common/prt_frame.h)
 
 // Lobe bits of a BCSDF evaluation request (gpu/bcsdf_gpu.h, bcsdf_eval.comp.glsl).
 #define FT_BCSDF_LOBE_R 1u

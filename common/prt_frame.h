@@ -12,6 +12,7 @@
 #ifndef FT_PRT_FRAME_H
 #define FT_PRT_FRAME_H
 #include "prelude.h"
+#include "bcsdf.h"
 #include "srbf.h"
 
 // Planted faults (validation/faults.def). Shared: C++ run-time switch and GLSL
@@ -120,6 +121,38 @@ FT_FUNC PrtFramePixel ftPrtFrameRequests(uint k, vec3 rayDirection, vec3 a, vec3
   p.total = vec4(0.0f, 0.0f, 0.0f, 1.0f);
   return p;
 }
+
+// The GPU frame (gpu/prt_frame_gpu.h PrtFrameRendererGpu): per frame, four
+// passes of two programs over data that stays on the GPU
+// (prt_frame_gpu_pixels.comp.glsl: mark, pixels; prt_frame_gpu.comp.glsl:
+// cells, segments). With the orthographic camera of the frame ω_o is the same
+// for every pixel and V_glo = 1, so a pixel's radiance depends on its segment
+// alone: the light's c_d and c_T = A_C c_d are done once per cell, the SH
+// rotation R_ωo, the C_S dot and single scattering once per segment the
+// G-buffer hits, and a pixel only composes its segment's two terms.
+#define FT_PRT_FRAME_GPU_MARK 0u      // one invocation per G-buffer texel: mark its segment
+#define FT_PRT_FRAME_GPU_CELLS 1u     // one per IIRTF cell: c_T = A_C c_d
+#define FT_PRT_FRAME_GPU_SEGMENTS 2u  // one per block segment: L^single, L̃^multi (zeros if no texel marked it)
+#define FT_PRT_FRAME_GPU_PIXELS 3u    // one per G-buffer texel: L = L^single + V̄_glo L̃^multi
+#define FT_PRT_FRAME_GPU_CT_FLOATS 144u  // c_T of a cell in the frame buffer: vec4 (rgb, 0) per coefficient
+#define FT_PRT_FRAME_GPU_SEGMENT_FLOATS 8u  // a segment's shading: (L^single, 0), (L̃^multi, 0)
+
+// std140 UBO FT_UBO_PRT_FRAME_GPU. The frame buffer (FT_SSBO_PRT_FRAME, float):
+// the image, vec4 (L rgb, covered) per pixel, [then L^single and L̃^multi
+// images when flags.x = 1], c_T per cell at offsets.x, the shading per segment
+// at offsets.y, 286 floats of SH rotation per segment at offsets.z, one mark
+// per segment at offsets.w (cleared to 0 before each frame).
+struct PrtFrameGpuParams {
+  vec4 light;     // xyz ω_d or ξ (unit, towards the light), w λ (0: directional)
+  uvec4 sizes;    // x pixels, y visibility image side n, z pass (FT_PRT_FRAME_GPU_*), w segments of the block
+  uvec4 ms;       // x IIRTF cells, y SH bands L + 1, z C_S rows (θ_o), w C_G rows (λ)
+  uvec4 offsets;  // floats: x c_T, y segment shading, z rotation scratch, w segment marks
+  uvec4 flags;    // x 1: also the single- and multiple-scattering images
+  vec4 svf;       // x λ_svf, y SG axes Q
+  FabricParams fabric;
+};
+FT_ASSERT_OFFSET(PrtFrameGpuParams, fabric, 96)
+FT_ASSERT_SIZE(PrtFrameGpuParams, 144)
 
 // L = L^single + V̄_glo L̃^multi (004 §5, §5.3).
 FT_FUNC vec3 ftPrtFrameCompose(vec3 single, vec3 multi, float vGloBar) {

@@ -93,4 +93,137 @@ std::vector<PrtFramePixel> PrtFrameGpu::render(const PrtFrameGpuInputs& in, std:
   return compose(px);
 }
 
+PrtFrameRendererGpu::PrtFrameRendererGpu(const GlInfo& gl, const std::vector<std::string>& defines)
+    : maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {
+  GLint ubos = 0, blocks = 0;
+  glGetIntegerv(GL_MAX_UNIFORM_BUFFER_BINDINGS, &ubos);
+  glGetIntegerv(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, &blocks);
+  constexpr int kHighestSsbo = FT_SSBO_SVF_WEIGHTS, kBlocks = 8;
+  if (ubos <= FT_UBO_PRT_FRAME_GPU || gl.maxShaderStorageBufferBindings <= kHighestSsbo || blocks < kBlocks)
+    throw std::runtime_error(fmt::format("PrtFrameRendererGpu: UBO slot {}, SSBO slots up to {} and {} storage blocks "
+                                         "per compute shader, but the driver has {} UBO and {} SSBO bindings and {} blocks",
+                                         FT_UBO_PRT_FRAME_GPU, kHighestSsbo, kBlocks, ubos,
+                                         gl.maxShaderStorageBufferBindings, blocks));
+  pixels_ = Program(buildProgram({"shaders/prt_frame_gpu_pixels.comp.glsl"}, defines));
+  shading_ = Program(buildProgram({"shaders/prt_frame_gpu.comp.glsl"}, defines));
+}
+
+void PrtFrameRendererGpu::upload(const PrtFrameGpuInputs& in) {
+  constexpr size_t kMatrix = size_t(3) * FT_SH_COEFFS * FT_SH_COEFFS;
+  const size_t n2 = size_t(std::max(0, in.svfSize)) * size_t(std::max(0, in.svfSize));
+  const PrtMsGpuTables* t = in.msTables;
+  const size_t segs = in.segments.size();
+  if (t == nullptr || segs == 0 || in.svfSize < 1 || in.ssdf.size() != segs * n2 || in.segmentData.size() != segs ||
+      in.axes < 1 || in.axes > FT_SVF_MAX_AXES || in.weights.size() != segs * size_t(in.axes) ||
+      in.ssTable.size() != 2 * FT_PRT_SS_TABLE_SIZE || in.transfer.empty() || in.transfer.size() % kMatrix != 0 ||
+      in.bands < 1 || in.bands > FT_SH_BANDS || t->thetaO < 2 || t->cs.size() != size_t(t->thetaO) * FT_SH_COEFFS * 3 ||
+      t->lambdaNodes < 2 || t->cg.size() != size_t(t->lambdaNodes) * FT_SH_BANDS)
+    throw std::invalid_argument(fmt::format(
+        "PrtFrameRendererGpu::upload: {} segments, {} SSDF values ({}²), {} segment records, {} weights ({} axes), "
+        "𝒢 table {}, {} transfer values, {} bands, C_S {} ({} rows), C_G {}",
+        segs, in.ssdf.size(), in.svfSize, in.segmentData.size(), in.weights.size(), in.axes, in.ssTable.size(),
+        in.transfer.size(), in.bands, t ? t->cs.size() : 0, t ? t->thetaO : 0, t ? t->cg.size() : 0));
+  const size_t cells = in.transfer.size() / kMatrix;
+  for (size_t k = 0; k < segs; ++k)
+    if (!(in.segmentData[k].y >= 0.0f) || size_t(in.segmentData[k].y) >= cells)
+      throw std::invalid_argument(fmt::format("PrtFrameRendererGpu::upload: segment {}: cell {} of {}", k,
+                                              in.segmentData[k].y, cells));
+  cells_ = cells;  // nothing changes before the checks have passed
+  segmentCount_ = segs;
+  svfSize_ = in.svfSize;
+  axes_ = in.axes;
+  bands_ = in.bands;
+  thetaO_ = t->thetaO;
+  lambdaNodes_ = t->lambdaNodes;
+  lambdaSvf_ = in.lambdaSvf;
+  fabric_ = in.fabric;
+  segments_ = Buffer::create(segs * sizeof(VolSegment), in.segments.data());
+  ssdf_ = Buffer::create(in.ssdf.size() * 4, in.ssdf.data());
+  segmentData_ = Buffer::create(segs * sizeof(glm::vec4), in.segmentData.data());
+  weights_ = Buffer::create(in.weights.size() * 4, in.weights.data());
+  ssTable_ = Buffer::create(in.ssTable.size() * 4, in.ssTable.data());
+  transfer_ = Buffer::create(in.transfer.size() * 4, in.transfer.data());
+  // C_S as [θ_o][36][4] then C_G (prt_ms_frame.glsl's layout, as PrtMultipleScatteringGpu::evaluate packs it).
+  const std::vector<float> packed = PrtMultipleScatteringGpu::packFrameTables(*t);
+  msTables_ = Buffer::create(packed.size() * 4, packed.data());
+}
+
+PrtFrameGpuImage PrtFrameRendererGpu::render(ExemplarVolumeGpu& volume, const VolParams& rays, glm::vec4 light,
+                                             bool parts) {
+  if (segmentCount_ == 0) throw std::logic_error("PrtFrameRendererGpu::render before upload");
+  if (uint32_t(rays.camPos.w) == FT_VOL_CAMERA_PINHOLE)
+    throw std::invalid_argument("PrtFrameRendererGpu::render: a pinhole camera (ω_o per pixel); the frame's camera is "
+                                "orthographic");
+  if (rays.dims.w != segmentCount_)
+    throw std::invalid_argument(fmt::format("PrtFrameRendererGpu::render: the rays' volume has {} segments, the "
+                                            "uploaded block {}",
+                                            rays.dims.w, segmentCount_));
+  const size_t pixels = size_t(rays.ray.x) * size_t(rays.ray.y);
+  volume.sampleNoReadback(rays);
+  // ExemplarVolumeGpu keeps its G-buffer and leaves it bound at FT_SSBO_PRT_RESULTS (it has no
+  // accessor): take that buffer, checked to be one of width × height VolHit.
+  GLint gbuffer = 0;
+  glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, FT_SSBO_PRT_RESULTS, &gbuffer);
+  GLint64 gbufferSize = 0;
+  if (gbuffer != 0) glGetNamedBufferParameteri64v(GLuint(gbuffer), GL_BUFFER_SIZE, &gbufferSize);
+  glCheck("PrtFrameRendererGpu: the G-buffer binding");
+  if (gbuffer == 0 || size_t(gbufferSize) < pixels * sizeof(VolHit))
+    throw std::runtime_error(fmt::format("PrtFrameRendererGpu::render: no G-buffer of {} texels at SSBO {} after "
+                                         "ExemplarVolumeGpu::sampleNoReadback (buffer {}, {} bytes)",
+                                         pixels, FT_SSBO_PRT_RESULTS, gbuffer, gbufferSize));
+  const size_t images = parts ? 3 : 1;
+  PrtFrameGpuParams p{};
+  p.light = light;
+  p.sizes = glm::uvec4(uint32_t(pixels), uint32_t(svfSize_), 0u, uint32_t(segmentCount_));
+  p.ms = glm::uvec4(uint32_t(cells_), uint32_t(bands_), uint32_t(thetaO_), uint32_t(lambdaNodes_));
+  const size_t ct = images * pixels * 4, seg = ct + cells_ * FT_PRT_FRAME_GPU_CT_FLOATS,
+               scratch = seg + segmentCount_ * FT_PRT_FRAME_GPU_SEGMENT_FLOATS,
+               marks = scratch + segmentCount_ * FT_SH_ROTATION_SIZE, floats = marks + segmentCount_;
+  if (floats > size_t(UINT32_MAX))
+    throw std::invalid_argument(fmt::format("PrtFrameRendererGpu::render: {} floats of frame buffer", floats));
+  p.offsets = glm::uvec4(uint32_t(ct), uint32_t(seg), uint32_t(scratch), uint32_t(marks));
+  p.flags = glm::uvec4(parts ? 1u : 0u, 0u, 0u, 0u);
+  p.svf = glm::vec4(lambdaSvf_, float(axes_), 0.0f, 0.0f);
+  p.fabric = fabric_;
+  if (frame_.id() == 0 || frame_.size() != floats * 4) frame_ = Buffer::create(floats * 4);
+  const float zero = 0.0f;
+  glClearNamedBufferSubData(frame_.id(), GL_R32F, GLintptr(marks * 4), GLsizeiptr(segmentCount_ * 4), GL_RED, GL_FLOAT,
+                            &zero);
+  const Buffer vol = Buffer::create(sizeof(VolParams), &rays);
+  vol.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_VOL);
+  segments_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_VOL_SEGMENTS);
+  ssdf_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_SSDF);
+  segmentData_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_REQUESTS);
+  weights_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SVF_WEIGHTS);
+  ssTable_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_SS_TABLE);
+  transfer_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TRANSFER);
+  msTables_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_MS_TABLES);
+  frame_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_FRAME);
+  const struct {
+    GLuint program;
+    uint32_t pass;
+    size_t items;
+    const char* what;
+  } passes[] = {{pixels_.id(), FT_PRT_FRAME_GPU_MARK, pixels, "prt_frame_gpu_pixels (segment marks)"},
+                {shading_.id(), FT_PRT_FRAME_GPU_CELLS, cells_, "prt_frame_gpu (c_T per cell)"},
+                {shading_.id(), FT_PRT_FRAME_GPU_SEGMENTS, segmentCount_, "prt_frame_gpu (shading per segment)"},
+                {pixels_.id(), FT_PRT_FRAME_GPU_PIXELS, pixels, "prt_frame_gpu_pixels (composition per pixel)"}};
+  for (const auto& pass : passes) {
+    p.sizes.z = pass.pass;
+    const Buffer u = Buffer::create(sizeof(PrtFrameGpuParams), &p);
+    u.bindBase(GL_UNIFORM_BUFFER, FT_UBO_PRT_FRAME_GPU);
+    dispatchFlat(pass.program, pass.items, FT_WG_PRT_FRAME, maxGroupsY_, pass.what);
+  }
+  const std::vector<glm::vec4> all = readBuffer<glm::vec4>(frame_.id(), images * pixels);
+  PrtFrameGpuImage im;
+  im.width = int(rays.ray.x);
+  im.height = int(rays.ray.y);
+  im.total.assign(all.begin(), all.begin() + long(pixels));
+  if (parts) {
+    im.single.assign(all.begin() + long(pixels), all.begin() + long(2 * pixels));
+    im.multi.assign(all.begin() + long(2 * pixels), all.end());
+  }
+  return im;
+}
+
 }  // namespace ft

@@ -4,7 +4,10 @@
 // after the single- and multiple-scattering evaluators of
 // gpu/prt_single_scattering_gpu.h and gpu/prt_multiple_scattering_gpu.h have
 // filled `single` and `multi` — the composition (mode 1). Every call uploads,
-// dispatches and reads back.
+// dispatches and reads back (PrtFrameGpu, the twin of the arithmetic).
+// PrtFrameRendererGpu is the frame renderer: data uploaded once, then per
+// frame the volume's G-buffer and four passes (prt_frame_gpu_pixels.comp.glsl,
+// prt_frame_gpu.comp.glsl) on the GPU, one read-back of the image.
 #pragma once
 #include <epoxy/gl.h>
 
@@ -16,6 +19,7 @@
 #include "common/exemplar_volume.h"
 #include "common/prt_frame.h"
 #include "gpu/gl_context.h"
+#include "gpu/exemplar_volume_gpu.h"
 #include "gpu/gl_objects.h"
 #include "gpu/prt_multiple_scattering_gpu.h"
 #include "gpu/prt_single_scattering_gpu.h"
@@ -82,6 +86,45 @@ class PrtFrameGpu {
  private:
   int maxGroupsY_ = 65535;
   Program program_;
+};
+
+// A frame of PrtFrameRendererGpu, row-major, row 0 at the top: rgb, w = 1 where
+// the G-buffer has a segment (0: a miss). single and multi only when asked.
+struct PrtFrameGpuImage {
+  int width = 0, height = 0;
+  std::vector<glm::vec4> total, single, multi;
+};
+
+// The single-pass GPU frame (docs/prt-frame.md "The GPU frame"): upload() puts
+// the scene's segments, SSDFs, SG weights, 𝒢 table, A_C matrices and C_S/C_G
+// tables in GPU buffers once; render() then runs, with no read-back before the
+// image: the volume's G-buffer (ExemplarVolumeGpu::sampleNoReadback), the
+// segments it hits marked, c_T per cell, L^single and L̃^multi per marked
+// segment (the orthographic camera's one ω_o), the composition per pixel
+// (prt_frame_gpu_pixels.comp.glsl, prt_frame_gpu.comp.glsl). Slots: UBO 24
+// FT_UBO_PRT_FRAME_GPU (new), the frame buffer at FT_SSBO_PRT_FRAME, the
+// others as the evaluators and the twin bind them.
+class PrtFrameRendererGpu {
+ public:
+  // defines: extra preprocessor symbols (fault injection, validation/faults.h).
+  // std::runtime_error when the driver lacks the bindings or storage blocks.
+  explicit PrtFrameRendererGpu(const GlInfo& gl, const std::vector<std::string>& defines = {});
+  // The scene's data and tables (in.rays and in.light are per frame: render's).
+  // Again after bakes change the data. std::invalid_argument for inconsistent sizes.
+  void upload(const PrtFrameGpuInputs& in);
+  // One frame of the built `volume` seen by `rays` (orthographic: std::invalid_argument
+  // for a pinhole, whose ω_o varies per pixel) under `light` (xyz, λ; 0 directional).
+  // parts: also the single- and multiple-scattering images. std::logic_error before upload().
+  PrtFrameGpuImage render(ExemplarVolumeGpu& volume, const VolParams& rays, glm::vec4 light, bool parts = false);
+
+ private:
+  int maxGroupsY_ = 65535;
+  Program pixels_, shading_;
+  Buffer segments_, ssdf_, segmentData_, weights_, ssTable_, transfer_, msTables_, frame_;
+  size_t segmentCount_ = 0, cells_ = 0;
+  int svfSize_ = 0, axes_ = 0, bands_ = 0, thetaO_ = 0, lambdaNodes_ = 0;
+  float lambdaSvf_ = 0.0f;
+  FabricParams fabric_{};
 };
 
 }  // namespace ft

@@ -112,10 +112,7 @@ std::vector<glm::vec3> PrtMultipleScatteringGpu::evaluate(std::span<const PrtMsQ
     if (queries[i].cell.x >= cells)
       throw std::invalid_argument(fmt::format("PrtMultipleScatteringGpu::evaluate: query {}: cell {} of {}", i,
                                               queries[i].cell.x, cells));
-  std::vector<float> packed(size_t(thetaO) * FT_SH_COEFFS * 4, 0.0f);
-  for (size_t i = 0; i < size_t(thetaO) * FT_SH_COEFFS; ++i)
-    for (size_t ch = 0; ch < 3; ++ch) packed[i * 4 + ch] = cs[i * 3 + ch];
-  packed.insert(packed.end(), cg.begin(), cg.end());
+  const std::vector<float> packed = packFrameTables(cs, thetaO, cg);
   const Buffer tablesBuf = Buffer::create(packed.size() * 4, packed.data());
   const Buffer transferBuf = Buffer::create(transfer.size() * 4, transfer.data());
   const Buffer req = Buffer::create(std::max<size_t>(1, queries.size()) * sizeof(PrtMsQuery), queries.data());
@@ -132,6 +129,15 @@ std::vector<glm::vec3> PrtMultipleScatteringGpu::evaluate(std::span<const PrtMsQ
   std::vector<glm::vec3> r(raw.size());
   for (size_t i = 0; i < raw.size(); ++i) r[i] = glm::vec3(raw[i]);
   return r;
+}
+
+std::vector<float> PrtMultipleScatteringGpu::packFrameTables(std::span<const float> cs, int thetaO,
+                                                             std::span<const float> cg) {
+  std::vector<float> packed(size_t(thetaO) * FT_SH_COEFFS * 4, 0.0f);
+  for (size_t i = 0; i < size_t(thetaO) * FT_SH_COEFFS && i * 3 + 2 < cs.size(); ++i)
+    for (size_t ch = 0; ch < 3; ++ch) packed[i * 4 + ch] = cs[i * 3 + ch];
+  packed.insert(packed.end(), cg.begin(), cg.end());
+  return packed;
 }
 
 std::vector<double> PrtMultipleScatteringGpu::accumulateIirtf(std::span<const PrtMsSample> samples) {

@@ -46,6 +46,10 @@ class PrtMultipleScatteringGpu {
   std::vector<float> shProbe(std::span<const glm::vec3> directions, std::span<const glm::vec3> rx,
                              std::span<const glm::vec3> ry);
   int uniformBufferBindings() const { return uboBindings_; }
+  // C_S as float[θ_o][36][4] (rgb, 0) then C_G as float[λ][6]: the layout of FT_SSBO_PRT_MS_TABLES
+  // for the per-frame steps (shaders/prt_ms_frame.glsl), here and in the PRT frame renderer.
+  static std::vector<float> packFrameTables(std::span<const float> cs, int thetaO, std::span<const float> cg);
+  static std::vector<float> packFrameTables(const PrtMsGpuTables& t) { return packFrameTables(t.cs, t.thetaO, t.cg); }
   // V̄_glo (004 §5.3.2): the normalised separable Gaussian filter of a V_glo grid (row-major,
   // width × height, texel side and σ_glo in fabric units), prt_ms_visibility.comp.glsl (its
   // own small program, built on first use). std::invalid_argument for mismatched sizes.

@@ -22,6 +22,7 @@
 #include "common/occlusion_cull.h"
 #include "common/segment_visibility.h"
 #include "common/pcss.h"
+#include "common/prt_frame.h"
 #include "common/prt_single_scattering.h"
 #include "common/shadow_map.h"
 #include "common/srbf.h"
@@ -90,6 +91,8 @@ namespace {
   X(width) X(height) X(maxPerSet) X(patterns) X(period) X(halfWidth) X(bodyRadius) X(lineHalfWidth) X(zeMu) X(zeSigma) \
   X(r0Mu) X(r0Sigma) X(reMu) X(reSigma) X(peMu) X(peSigma) X(rootOffset) X(alpha) X(noise) X(zReach) \
   X(margin) X(poissonThresholdB) X(poissonThresholdI) X(chunksB) X(chunksI) X(seed) X(pad0) X(pad1)
+#define FT_PRT_FRAME_GPU_PARAMS_MEMBERS(X) \
+  X(light) X(sizes) X(ms) X(offsets) X(flags) X(svf) X(fabric.colorR) X(fabric.colorTT) X(fabric.lobes)
 #define FT_PRT_SS_FABRIC_MEMBERS(X, i) X(fabrics[i].colorR) X(fabrics[i].colorTT) X(fabrics[i].lobes)
 #define FT_PRT_SS_PARAMS_MEMBERS(X) \
   FT_PRT_SS_FABRIC_MEMBERS(X, 0) FT_PRT_SS_FABRIC_MEMBERS(X, 1) FT_PRT_SS_FABRIC_MEMBERS(X, 2) FT_PRT_SS_FABRIC_MEMBERS(X, 3) \
@@ -160,6 +163,8 @@ std::vector<StructCase> structCases() {
       FT_UNIFORM_CASE(PcssParams, FT_PCSS_PARAMS_MEMBERS, "PcssBlock", "pcss", FT_UBO_PCSS),
       FT_UNIFORM_CASE(VolParams, FT_VOL_PARAMS_MEMBERS, "VolBlock", "vol", FT_UBO_PRT_VOL),
       FT_UNIFORM_CASE(PrtSsParams, FT_PRT_SS_PARAMS_MEMBERS, "PrtSsBlock", "prtSs", FT_UBO_PRT_SS),
+      FT_UNIFORM_CASE(PrtFrameGpuParams, FT_PRT_FRAME_GPU_PARAMS_MEMBERS, "PrtFrameGpuBlock", "prtFrame",
+                      FT_UBO_PRT_FRAME_GPU),
   };
 }
 

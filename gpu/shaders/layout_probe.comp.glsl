@@ -22,6 +22,7 @@
 float ftPcssFetch(int source, uint i) { return 0.0; }  // the lookups are not run here
 float prtSsTable[1];  // the shared body reads its table by this name (no storage block left here)
 #include "common/prt_single_scattering.h"
+#include "common/prt_frame.h"
 
 layout(local_size_x = 1) in;
 
@@ -59,6 +60,7 @@ layout(std140, binding = FT_UBO_SVF) uniform SvfBlock { SvfParams svf; };
 layout(std140, binding = FT_UBO_PCSS) uniform PcssBlock { PcssParams pcss; };
 layout(std140, binding = FT_UBO_PRT_VOL) uniform VolBlock { VolParams vol; };
 layout(std140, binding = FT_UBO_PRT_SS) uniform PrtSsBlock { PrtSsParams prtSs; };
+layout(std140, binding = FT_UBO_PRT_FRAME_GPU) uniform PrtFrameGpuBlock { PrtFrameGpuParams prtFrame; };
 layout(std430, binding = FT_SSBO_LAYOUT_PROBE) buffer ParamsCopyBuf {
   YarnParams yarnCopy;
   ViewParams viewCopy;
@@ -112,4 +114,9 @@ void main() {
     prtSum += prtSs.fabrics[f].colorR.x + prtSs.fabrics[f].colorTT.x + prtSs.fabrics[f].lobes.x;
   uint prtBits = prtSs.count ^ prtSs.mode ^ prtSs.fabricCount ^ prtSs.axes ^ prtSs.tableSize ^ prtSs.pad0 ^ prtSs.pad1;
   if (prtSum == -12345.0 && prtBits == 0x12345u) aoCopy.seed = ao.seed;
+  // Every PrtFrameGpuParams member read, so each is an active resource.
+  if (prtFrame.light.x + prtFrame.svf.x + prtFrame.fabric.colorR.x + prtFrame.fabric.colorTT.x +
+          prtFrame.fabric.lobes.x == -12345.0 &&
+      (prtFrame.sizes.x ^ prtFrame.ms.x ^ prtFrame.offsets.x ^ prtFrame.flags.x) == 0x12345u)
+    aoCopy.seed = ao.seed;
 }

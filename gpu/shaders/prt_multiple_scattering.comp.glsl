@@ -6,7 +6,8 @@
 //                      Σ_θi cos²θ_i (lobe_R Φ_R + lobe_TT Φ_TT) Δθ, Φ read from the tables buffer;
 //   FT_PRT_MS_CS_SUM   one per (θ_o, j): the partial sums added in chunk order;
 //   FT_PRT_MS_CG       one per λ node: C_G[λ, l], l < 6;
-//   FT_PRT_MS_FRAME    one per query: c_d (or rotated c_G) → c_T = A_C c_d → R_ωo → dot C_S[θ_o];
+//   FT_PRT_MS_FRAME    one per query: c_d (or rotated c_G) → c_T = A_C c_d → R_ωo → dot C_S[θ_o]
+//                      (shaders/prt_ms_frame.glsl, shared with the PRT frame);
 //   FT_PRT_MS_SH_PROBE one per query: Y(ω) and M(R) Y(ω) (R rows: tangent.xyz, light.xyz, their cross).
 // Sums in float. llvmpipe ends an invocation's loops after 65,535 iterations in all
 // (docs/llvmpipe-notes.md): Φ's 512 φ × ~63 inner iterations, C_S in chunks of 256 θ_i.
@@ -28,6 +29,7 @@ layout(std430, binding = FT_SSBO_PRT_REQUESTS) readonly buffer PrtMsRequests { P
 layout(std430, binding = FT_SSBO_PRT_MS_TRANSFER) readonly buffer PrtMsTransfer { float transfer[]; };
 // FRAME: C_S as float[θ_o][36][4] (rgb, 0), then C_G as float[λ][6]. CS: Φ as float[2][θ_i][36].
 layout(std430, binding = FT_SSBO_PRT_MS_TABLES) readonly buffer PrtMsTables { float tables[]; };
+#include "shaders/prt_ms_frame.glsl"
 uniform uint groupsX;
 uniform uint itemCount;
 
@@ -88,40 +90,10 @@ void cgPass(uint item) {
 void framePass(uint item) {
   ftShScratchBase = itemCount * 72u + item * uint(FT_SH_ROTATION_SIZE);
   PrtMsQuery q = queries[item];
-  int bands = int(ms.bands), J = bands * bands;
-  uint cgBase = ms.thetaONodes * uint(FT_SH_COEFFS) * 4u;
-  vec3 lg = prtMsCgLookup(max(q.light.w, 0.0f), int(ms.lambdaNodes));
-  PrtMsZonal g;
-  for (int l = 0; l < FT_SH_BANDS; ++l)
-    g.c[l] = mix(tables[cgBase + uint(lg.x) * uint(FT_SH_BANDS) + uint(l)],
-                 tables[cgBase + uint(lg.y) * uint(FT_SH_BANDS) + uint(l)], lg.z);
-  ShCoeffs cd = prtMsLightCoeffs(shEval(q.light.xyz), g, q.light.w > 0.0f, bands);
-  uint base = q.cell.x * 3u * uint(FT_SH_COEFFS * FT_SH_COEFFS);
-  const uint plane = uint(FT_SH_COEFFS * FT_SH_COEFFS);
-  ShCoeffs3 cT;
-  for (int j1 = 0; j1 < FT_SH_COEFFS; ++j1) cT.c[j1] = vec3(0.0f);
-  for (int j1 = 0; j1 < J; ++j1) {
-    vec3 s = vec3(0.0f);
-    for (int j0 = 0; j0 < J; ++j0) {
-#ifdef FT_FAULT_MS_IIRTF_TRANSPOSED
-      uint at = base + uint(j0 * FT_SH_COEFFS + j1);  // planted: A_Cᵀ c_d
-#else
-      uint at = base + uint(j1 * FT_SH_COEFFS + j0);
-#endif
-      s += vec3(transfer[at], transfer[at + plane], transfer[at + 2u * plane]) * cd.c[j0];
-    }
-    cT.c[j1] = s;
-  }
-  vec3 t = q.tangent.xyz, wo = q.wo.xyz;
-  ShCoeffs3 c = prtMsToOmegaOSpace(prtMsOmegaORotation(t, wo, bands), cT, bands);
-  vec3 lk = prtMsCsLookup(prtMsThetaO(t, wo), int(ms.thetaONodes));
-  vec3 L = vec3(0.0f);
-  for (int j = 0; j < J; ++j) {
-    uint i0 = (uint(lk.x) * uint(FT_SH_COEFFS) + uint(j)) * 4u, i1 = (uint(lk.y) * uint(FT_SH_COEFFS) + uint(j)) * 4u;
-    vec3 s0 = vec3(tables[i0], tables[i0 + 1u], tables[i0 + 2u]);
-    vec3 s1 = vec3(tables[i1], tables[i1 + 1u], tables[i1 + 2u]);
-    L += mix(s0, s1, lk.z) * c.c[j];
-  }
+  int bands = int(ms.bands);
+  ShCoeffs cd = prtMsGpuLightCoeffs(q.light, ms.thetaONodes, ms.lambdaNodes, bands);
+  ShCoeffs3 cT = prtMsGpuTransfer(q.cell.x, cd, bands);
+  vec3 L = prtMsGpuRadiance(cT, q.tangent.xyz, q.wo.xyz, ms.thetaONodes, bands);
   for (int ch = 0; ch < 3; ++ch) results[item * 4u + uint(ch)] = L[ch];
   results[item * 4u + 3u] = 0.0f;
 }

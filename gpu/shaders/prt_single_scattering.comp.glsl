@@ -4,7 +4,8 @@
 //   0 bake: one invocation per texel of the 𝒢 tables (2 rows per fabric):
 //     𝒢(−θ_k; β⁻²/2) = bcsdf.h's Z(θ_k), float;
 //   1 evaluate: one invocation per PrtSsRequest: ftPrtSsDirectional (λ ≤ 0)
-//     or ftPrtSsSgLight, the segment's weights from the SVF group's buffer.
+//     or ftPrtSsSgLight, the segment's weights from the SVF group's buffer
+//     (shaders/prt_ss_shade.glsl, shared with the PRT frame).
 // Loops: Q ≤ 64 terms per request (llvmpipe's loop limit is not near).
 #include "common/constants.h"
 #include "common/prelude.h"
@@ -22,6 +23,7 @@ layout(std430, binding = FT_SSBO_PRT_REQUESTS) readonly buffer PrtSsRequests { P
 layout(std430, binding = FT_SSBO_PRT_RESULTS) writeonly buffer PrtSsResults { vec4 results[]; };
 // w_k,q per weights row (the SVF group's layout, float[rows][Q]).
 layout(std430, binding = FT_SSBO_SVF_WEIGHTS) readonly buffer PrtSsWeights { float svfWeights[]; };
+#include "shaders/prt_ss_shade.glsl"
 uniform uint groupsX;
 uniform uint itemCount;
 
@@ -37,18 +39,7 @@ void main() {
   }
   PrtSsRequest q = requests[i];
   int fabric = int(q.tangent.w);
-  FabricParams p = prtSs.fabrics[fabric];
-  vec3 t = q.tangent.xyz, wo = q.outgoing.xyz, l = q.light.xyz;
-  vec3 L;
-  if (q.light.w <= 0.0f) {
-    L = ftPrtSsDirectional(p, t, wo, l, q.segment.x, q.outgoing.w);
-  } else {
-    float w[FT_SVF_MAX_AXES];
-    int axes = int(prtSs.axes);
-    uint base = uint(q.segment.z) * prtSs.axes;
-    for (int k = 0; k < FT_SVF_MAX_AXES; ++k) w[k] = k < axes ? svfWeights[base + uint(k)] : 0.0f;
-    L = ftPrtSsSgLight(p, fabric, t, wo, l, q.light.w, q.segment.x, w, axes, q.segment.y, prtSs.lambdaSvf,
-                       q.outgoing.w);
-  }
+  vec3 L = prtSsShadeGpu(prtSs.fabrics[fabric], fabric, q.tangent.xyz, q.outgoing.xyz, q.light, q.segment.x,
+                         q.segment.y, uint(q.segment.z), prtSs.axes, prtSs.lambdaSvf, q.outgoing.w);
   results[i] = vec4(L, 0.0f);
 }
