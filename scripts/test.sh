@@ -5,7 +5,9 @@
 #      through glslangValidator);
 #   2. AddressSanitizer + UBSan build: the input readers (BCC, presets, stitch
 #      meshes), the command line on malformed files, the GPU kernels' host code
-#      and the harness on the built-in scene (labels input and asan);
+#      and the harness on the built-in scene (labels input and asan); Debug
+#      (assertions on) at -O1, as the ASan manual advises: at -O0 GLM's
+#      out-of-line vector calls made the harness 2.4x slower;
 #   3. clang libFuzzer build: bounded fuzz runs of the BCC reader and of stitch-mesh
 #      OBJ text through the knit host side.
 set -euo pipefail
