@@ -62,7 +62,7 @@ std::vector<uint32_t> ExemplarVolumeGpu::ids() const {
   return readBuffer<uint32_t>(ids_.id(), size_t(layout_.dims.x) * layout_.dims.y * layout_.dims.z);
 }
 
-void ExemplarVolumeGpu::sampleNoReadback(const VolParams& rays) {
+const Buffer& ExemplarVolumeGpu::sampleNoReadback(const VolParams& rays) {
   if (ids_.id() == 0) throw std::logic_error("ExemplarVolumeGpu::sample before build");
   if (rays.ray.x == 0 || rays.ray.y == 0 || rays.ray.z == 0 || rays.ray.z > FT_VOL_MAX_SAMPLES ||
       (ftVolIdMode(rays) != FT_VOL_IDS_MIDPOINT && ftVolIdMode(rays) != FT_VOL_IDS_CAPSULE))
@@ -81,6 +81,7 @@ void ExemplarVolumeGpu::sampleNoReadback(const VolParams& rays) {
   ids_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_VOL_IDS);
   gbuffer_.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
   dispatchFlat(sample_.id(), pixels, FT_WG_PRT_VOL, maxGroupsY_, "exemplar_volume_sample");
+  return gbuffer_;
 }
 
 std::vector<VolHit> ExemplarVolumeGpu::sample(const VolParams& rays) {

@@ -39,8 +39,9 @@ class ExemplarVolumeGpu {
   // The G-buffer of the rays of `rays` (its ray and cam* fields; camDir.w the
   // id, FT_VOL_IDS_*) through the built volume, row-major.
   std::vector<VolHit> sample(const VolParams& rays);
-  // Dispatch only, no read-back (for timing): the G-buffer stays on the GPU.
-  void sampleNoReadback(const VolParams& rays);
+  // Dispatch only, no read-back: the G-buffer (width × height VolHit) stays on
+  // the GPU, owned by this object until the next call.
+  const Buffer& sampleNoReadback(const VolParams& rays);
 
  private:
   int maxGroupsY_ = 65535;

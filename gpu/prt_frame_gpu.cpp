@@ -159,18 +159,11 @@ PrtFrameGpuImage PrtFrameRendererGpu::render(ExemplarVolumeGpu& volume, const Vo
                                             "uploaded block {}",
                                             rays.dims.w, segmentCount_));
   const size_t pixels = size_t(rays.ray.x) * size_t(rays.ray.y);
-  volume.sampleNoReadback(rays);
-  // ExemplarVolumeGpu keeps its G-buffer and leaves it bound at FT_SSBO_PRT_RESULTS (it has no
-  // accessor): take that buffer, checked to be one of width × height VolHit.
-  GLint gbuffer = 0;
-  glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, FT_SSBO_PRT_RESULTS, &gbuffer);
-  GLint64 gbufferSize = 0;
-  if (gbuffer != 0) glGetNamedBufferParameteri64v(GLuint(gbuffer), GL_BUFFER_SIZE, &gbufferSize);
-  glCheck("PrtFrameRendererGpu: the G-buffer binding");
-  if (gbuffer == 0 || size_t(gbufferSize) < pixels * sizeof(VolHit))
-    throw std::runtime_error(fmt::format("PrtFrameRendererGpu::render: no G-buffer of {} texels at SSBO {} after "
-                                         "ExemplarVolumeGpu::sampleNoReadback (buffer {}, {} bytes)",
-                                         pixels, FT_SSBO_PRT_RESULTS, gbuffer, gbufferSize));
+  const Buffer& gbuffer = volume.sampleNoReadback(rays);
+  if (gbuffer.size() != pixels * sizeof(VolHit))
+    throw std::logic_error(fmt::format("PrtFrameRendererGpu::render: a G-buffer of {} bytes for {} pixels",
+                                       gbuffer.size(), pixels));
+  gbuffer.bindBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_PRT_RESULTS);
   const size_t images = parts ? 3 : 1;
   PrtFrameGpuParams p{};
   p.light = light;

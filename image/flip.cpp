@@ -486,9 +486,11 @@ FlipResult flipHdr(const ImageRgbaF& reference, const ImageRgbaF& test, const Fl
       std::nth_element(lum.begin(), mid, lum.end());
       medianLum = *mid;
     }
-    const float x = exposureTargetInput(options.toneMapper);
-    start = std::log2(x / maxLum);
-    stop = std::log2(x / medianLum);
+    // In double: x / L overflows float for a denormal L (a sparse path-traced
+    // image's median), where the stop itself (~130) is an ordinary value.
+    const double x = exposureTargetInput(options.toneMapper);
+    start = static_cast<float>(std::log2(x / maxLum));
+    stop = static_cast<float>(std::log2(x / medianLum));
   }
   if (options.startExposure) start = *options.startExposure;
   if (options.stopExposure) stop = *options.stopExposure;

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# bake-speedup.sh [FIBERTWIN] [SIZE] [DIRECTIONS] [REPEATS] — wall time of the
-# AO bake (docs/bakes.md) without mpirun and under mpirun -np 1, 2, with the
+# bake-speedup.sh [FIBERTWIN] [SIZE] [DIRECTIONS] [REPEATS] [BAKE ARGS...] — wall
+# time of a bake (docs/bakes.md; the AO bake at SIZE² × DIRECTIONS, or the bake
+# and options given after REPEATS, e.g. `iirtf --fibers-per-ply 0 --paths 2000`,
+# SIZE and DIRECTIONS then unused) without mpirun and under mpirun -np 1, 2, with the
 # threads per rank that fill this machine's cores, each run REPEATS times
 # (interleaved, so a load change hits every configuration alike); every
 # output must equal the first byte for byte. Prints per configuration the best
@@ -16,7 +18,13 @@ TMP=$(mktemp -d "${TMPDIR:-/tmp}/fibertwin-speedup.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
 MPIRUN=(mpirun --allow-run-as-root --oversubscribe --bind-to none)
-BAKE=(bake ambient-occlusion --size "$SIZE" --directions "$DIRS" --quiet)
+if (( $# > 4 )); then
+  BAKE=(bake "${@:5}" --quiet)
+  LABEL="${*:5}"
+else
+  BAKE=(bake ambient-occlusion --size "$SIZE" --directions "$DIRS" --quiet)
+  LABEL="AO bake ${SIZE}² × $DIRS directions"
+fi
 configs=("1 rank x 1 thread (no mpirun)|$FT ${BAKE[*]} --threads 1"
          "1 rank x $cores threads (no mpirun)|$FT ${BAKE[*]} --threads $cores"
          "mpirun -np 1 x $cores threads|${MPIRUN[*]} -np 1 $FT ${BAKE[*]} --threads $cores"
@@ -35,7 +43,7 @@ for r in $(seq "$REPEATS"); do
   done
 done
 median() { tr ' ' '\n' <<<"$1" | grep . | sort -g | sed -n "$(( (REPEATS + 1) / 2 ))p"; }
-echo "AO bake ${SIZE}² × $DIRS directions, $cores cores, $REPEATS runs each, outputs identical;"
+echo "$LABEL, $cores cores, $REPEATS runs each, outputs identical;"
 echo "load average before $load_before, after $(cut -d' ' -f1-3 /proc/loadavg):"
 for i in "${!configs[@]}"; do
   best=$(tr ' ' '\n' <<<"${wall[$i]}" | grep . | sort -g | head -1)

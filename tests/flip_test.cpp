@@ -597,6 +597,18 @@ TEST(FlipHdr, BlackBackgroundUsesThePositiveMedian) {
   EXPECT_NEAR(flipHdr(ref, ref).stopExposure, std::log2(acesInputFor(0.85) / 6.0), 2e-5);
 }
 
+// A denormal median (a sparse path-traced image at few samples): x / L
+// overflows float, the stop exposure (~130 stops) does not.
+TEST(FlipHdr, DenormalMedianGivesFiniteExposures) {
+  ImageRgbaF ref = uniform(4, 4, 1e-39f, 1e-39f, 1e-39f);
+  std::fill(ref.pixels.begin(), ref.pixels.begin() + 3, 1.0f);
+  const FlipResult r = flipHdr(ref, ref);
+  const double x = acesInputFor(0.85);
+  EXPECT_NEAR(r.startExposure, std::log2(x / 1.0), 2e-5);
+  EXPECT_NEAR(r.stopExposure, std::log2(x / 1e-39), 0.01);  // the luminance of a denormal grey rounds
+  EXPECT_EQ(r.pooled.mean, 0.0f);  // identical images
+}
+
 TEST(FlipHdr, IdenticalImagesGiveZero) {
   const ImageRgbaF img = noise(40, 32, 9, 20.0f);
   const FlipResult r = flipHdr(img, img);
