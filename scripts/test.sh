@@ -7,8 +7,8 @@
 #      meshes), the command line on malformed files, the GPU kernels' host code
 #      and the harness on the built-in scene (labels input and asan); Debug
 #      at -O0: -O1 ran the ASan harness 2.4x faster (validate_default 272 ->
-#      168 s) but its build took 592 s, more than it saved (CI 1,758 s against
-#      1,340-1,439 s, 2026-12-03);
+#      168 s) but its build took 592 s against 251 s, more than it saved
+#      (CI 1,758 s against 1,353 s, 2026-12-03);
 #   3. clang libFuzzer build: bounded fuzz runs of the BCC reader and of stitch-mesh
 #      OBJ text through the knit host side.
 set -euo pipefail
