@@ -172,6 +172,21 @@ void setVolumeRays(VolParams& p, const VolCamera& cam, int width, int height, in
 
 namespace {
 
+// Every eye ray of `p` that crosses the volume's slab, in parallel over rows:
+// f(pixel, origin, direction, [t_in, t_out]). Rays that miss the slab are left alone.
+template <class F>
+void forEachSlabRay(const VolParams& p, F&& f) {
+  const float zLo = p.origin.z, zHi = p.origin.z + float(p.dims.z) * p.origin.w;
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, p.ray.y), [&](const tbb::blocked_range<uint32_t>& rows) {
+    for (uint32_t y = rows.begin(); y != rows.end(); ++y)
+      for (uint32_t x = 0; x < p.ray.x; ++x) {
+        const glm::vec3 o = ftVolRayOrigin(p, x, y), d = ftVolRayDirection(p, x, y);
+        const glm::vec2 t = ftVolSlabInterval(o, d, zLo, zHi);
+        if (t.x <= t.y) f(size_t(y) * p.ray.x + x, o, d, t);
+      }
+  });
+}
+
 // The capsule ids (common/exemplar_volume.h "capsule ids"): the cell walk,
 // in each cell the exact test of its candidates in the frame shifted by the
 // cell's whole periods, the nearest hit once the walk has passed it.
@@ -180,44 +195,35 @@ void sampleCapsules(const ExemplarVolume& vol, const VolParams& p, std::vector<V
   const VolumeCandidates& cand = vol.candidates;
   if (vol.segments.size() != p.dims.w || cand.start.size() != size_t(p.grid.x) * p.grid.y * p.grid.z + 1)
     throw std::invalid_argument("sampleVolumeCpu: capsule ids need the volume's segments and candidate lists");
-  const uint32_t W = p.ray.x, H = p.ray.y;
   const int nx = int(p.dims.x), ny = int(p.dims.y), nz = int(p.dims.z);
   const float P = ftVolPeriod(p), h = p.origin.w;
-  const float zLo = p.origin.z, zHi = p.origin.z + float(p.dims.z) * h;
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, H), [&](const tbb::blocked_range<uint32_t>& rows) {
-    for (uint32_t y = rows.begin(); y != rows.end(); ++y)
-      for (uint32_t x = 0; x < W; ++x) {
-        const size_t pix = size_t(y) * W + x;
-        const glm::vec3 o = ftVolRayOrigin(p, x, y), d = ftVolRayDirection(p, x, y);
-        const glm::vec2 t = ftVolSlabInterval(o, d, zLo, zHi);
-        if (t.x > t.y) continue;
-        float best = -1.0f, gap = std::numeric_limits<float>::infinity();
-        uint32_t bestId = 0;
-        std::vector<float> entries;  // the candidates' entries, for the tie gap
-        VolWalk w = ftVolWalkBegin(o, d, t.x, p);
-        for (uint32_t step = 0; step < FT_VOL_MAX_STEPS; ++step, w = ftVolWalkNext(o, d, w, p)) {
-          if (w.v.z < 0 || w.v.z >= nz || w.t > t.y || (best >= 0.0f && w.t > best)) break;
-          const glm::ivec3 wv(ftVolWrap(w.v.x, nx), ftVolWrap(w.v.y, ny), w.v.z);
-          const int cell = int(ftVolCellOf(wv, p)), sx = ftVolPeriodsOf(w.v.x, nx), sy = ftVolPeriodsOf(w.v.y, ny);
-          const glm::vec3 os = o - glm::vec3(float(sx) * P, float(sy) * P, 0.0f);
-          for (uint32_t e = cand.start[size_t(cell)]; e < cand.start[size_t(cell) + 1]; ++e) {
-            const uint32_t k = cand.entries[e] / FT_VOL_COPIES, c = cand.entries[e] % FT_VOL_COPIES;
-            const glm::vec3 off = ftVolCopyOffset(c, P);
-            const VolSegment& s = vol.segments[k];
-            const float th = ftVolRayCapsule(os, d, glm::vec3(s.a) + off, glm::vec3(s.b) + off, s.a.w);
-            if (th < 0.0f) continue;
-            if (tieGap) entries.push_back(th), entries.push_back(float(k));
-            if (best < 0.0f || th < best || (th == best && k + 1 < bestId)) best = th, bestId = k + 1;
-          }
-        }
-        if (bestId == 0) continue;
-        out[pix] = VolHit{o + best * d, bestId};
-        if (tieGap) {
-          for (size_t i = 0; i < entries.size(); i += 2)
-            if (uint32_t(entries[i + 1]) + 1 != bestId) gap = std::min(gap, std::abs(entries[i] - best) / h);
-          (*tieGap)[pix] = gap;
-        }
+  forEachSlabRay(p, [&](size_t pix, glm::vec3 o, glm::vec3 d, glm::vec2 t) {
+    float best = -1.0f, gap = std::numeric_limits<float>::infinity();
+    uint32_t bestId = 0;
+    std::vector<float> entries;  // the candidates' entries, for the tie gap
+    VolWalk w = ftVolWalkBegin(o, d, t.x, p);
+    for (uint32_t step = 0; step < FT_VOL_MAX_STEPS; ++step, w = ftVolWalkNext(o, d, w, p)) {
+      if (w.v.z < 0 || w.v.z >= nz || w.t > t.y || (best >= 0.0f && w.t > best)) break;
+      const glm::ivec3 wv(ftVolWrap(w.v.x, nx), ftVolWrap(w.v.y, ny), w.v.z);
+      const int cell = int(ftVolCellOf(wv, p)), sx = ftVolPeriodsOf(w.v.x, nx), sy = ftVolPeriodsOf(w.v.y, ny);
+      const glm::vec3 os = o - glm::vec3(float(sx) * P, float(sy) * P, 0.0f);
+      for (uint32_t e = cand.start[size_t(cell)]; e < cand.start[size_t(cell) + 1]; ++e) {
+        const uint32_t k = cand.entries[e] / FT_VOL_COPIES, c = cand.entries[e] % FT_VOL_COPIES;
+        const glm::vec3 off = ftVolCopyOffset(c, P);
+        const VolSegment& s = vol.segments[k];
+        const float th = ftVolRayCapsule(os, d, glm::vec3(s.a) + off, glm::vec3(s.b) + off, s.a.w);
+        if (th < 0.0f) continue;
+        if (tieGap) entries.push_back(th), entries.push_back(float(k));
+        if (best < 0.0f || th < best || (th == best && k + 1 < bestId)) best = th, bestId = k + 1;
       }
+    }
+    if (bestId == 0) return;
+    out[pix] = VolHit{o + best * d, bestId};
+    if (tieGap) {
+      for (size_t i = 0; i < entries.size(); i += 2)
+        if (uint32_t(entries[i + 1]) + 1 != bestId) gap = std::min(gap, std::abs(entries[i] - best) / h);
+      (*tieGap)[pix] = gap;
+    }
   });
 }
 
@@ -233,31 +239,23 @@ std::vector<VolHit> sampleVolumeCpu(const ExemplarVolume& vol, const VolParams& 
   const uint32_t W = p.ray.x, H = p.ray.y, N = p.ray.z;
   std::vector<VolHit> out(size_t(W) * H, VolHit{glm::vec3(0.0f), 0u});
   if (faceDistance) faceDistance->assign(out.size(), std::numeric_limits<float>::infinity());
-  const float zLo = p.origin.z, zHi = p.origin.z + float(p.dims.z) * p.origin.w;
   if (ftVolIdMode(p) == FT_VOL_IDS_CAPSULE) {
     sampleCapsules(vol, p, out, faceDistance);
     return out;
   }
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, H), [&](const tbb::blocked_range<uint32_t>& rows) {
-    for (uint32_t y = rows.begin(); y != rows.end(); ++y)
-      for (uint32_t x = 0; x < W; ++x) {
-        const size_t pix = size_t(y) * W + x;
-        const glm::vec3 o = ftVolRayOrigin(p, x, y), d = ftVolRayDirection(p, x, y);
-        const glm::vec2 t = ftVolSlabInterval(o, d, zLo, zHi);
-        if (t.x > t.y) continue;
-        float face = std::numeric_limits<float>::infinity();
-        for (uint32_t i = 0; i < N; ++i) {
-          const float ti = ftVolSampleT(t.x, t.y, i, N);
-          const glm::vec3 q = o + ti * d;
-          face = std::min(face, ftVolFaceDistance(q, p.origin));
-          const int idx = ftVolSampleIndex(o, d, ti, p);
-          if (idx >= 0 && vol.ids[size_t(idx)] != 0u) {
-            out[pix] = VolHit{q, vol.ids[size_t(idx)]};
-            break;
-          }
-        }
-        if (faceDistance) (*faceDistance)[pix] = face;
+  forEachSlabRay(p, [&](size_t pix, glm::vec3 o, glm::vec3 d, glm::vec2 t) {
+    float face = std::numeric_limits<float>::infinity();
+    for (uint32_t i = 0; i < N; ++i) {
+      const float ti = ftVolSampleT(t.x, t.y, i, N);
+      const glm::vec3 q = o + ti * d;
+      face = std::min(face, ftVolFaceDistance(q, p.origin));
+      const int idx = ftVolSampleIndex(o, d, ti, p);
+      if (idx >= 0 && vol.ids[size_t(idx)] != 0u) {
+        out[pix] = VolHit{q, vol.ids[size_t(idx)]};
+        break;
       }
+    }
+    if (faceDistance) (*faceDistance)[pix] = face;
   });
   return out;
 }
