@@ -70,6 +70,21 @@ std::vector<uint32_t> tessellationSubset(ValidationContext& ctx, const glm::vec3
   return {chosen.begin(), chosen.end()};
 }
 
+// The regular-fiber count of eq. 4 (000 §3.3), written here from the
+// segment's control points and the camera, in double, without common/lod.h:
+// ω^fiber and ω^ply at the Bézier midpoint, λ by the three branches,
+// n = λ² n_max to the nearest whole fiber.
+uint32_t eq4RegularCount(const YarnParams& p, const ViewParams& v, const YarnSegment& seg) {
+  const glm::dvec3 mid = (glm::dvec3(glm::vec3(seg.b0)) + 3.0 * glm::dvec3(glm::vec3(seg.b1)) +
+                          3.0 * glm::dvec3(glm::vec3(seg.b2)) + glm::dvec3(glm::vec3(seg.b3))) / 8.0;
+  const double w = (glm::dmat4(v.viewProj) * glm::dvec4(mid, 1.0)).w;
+  const double pixelsPerUnit = double(v.cameraPos.w) / std::max(w, 1e-6);
+  const double fiber = 2.0 * p.fiberRadius * pixelsPerUnit, ply = 2.0 * double(p.ellipseB) * p.rhoMax * pixelsPerUnit;
+  const double lod = v.lodThresholdPx;
+  const double lambda = lod <= fiber ? 1.0 : ply <= lod ? 0.0 : (fiber / lod) * ((ply - lod) / (ply - fiber));
+  return uint32_t(std::min(std::floor(lambda * lambda * p.regularFibers + 0.5), double(p.regularFibers)));
+}
+
 // A decision the two sides may legitimately round differently: the CPU's
 // continuous quantity lies within a relative 1e-4 of a discrete boundary.
 bool decisionAmbiguous(const YarnParams& p, const ViewParams& v, const YarnSegment& seg,
@@ -79,7 +94,7 @@ bool decisionAmbiguous(const YarnParams& p, const ViewParams& v, const YarnSegme
   // λ = 0 and λ = 1 come from the branches of eq. 4 (checked below), not from rounding.
   const double scale = static_cast<double>(d.lambda) * d.lambda;
   if (d.lambda > 0.0f && d.lambda < 1.0f &&
-      nearInteger(scale * p.regularFibers))
+      nearInteger(scale * p.regularFibers + 0.5))  // the count rounds to nearest: boundaries at half-integers
     return true;
   const double subdiv = ftSubdivisionEstimate(p, v, seg);
   if (subdiv < p.maxSubdivisions && nearInteger(subdiv)) return true;
@@ -213,12 +228,23 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
 
   // Decisions: read directly on the compute path, derived from the emitted
   // vertices on the tessellation path (culled = nothing emitted).
-  uint64_t decisionMismatch = 0;
+  uint64_t decisionMismatch = 0, eq4Mismatch = 0, eq4Checked = 0;
   double lambdaMax = 0.0;
   std::string notes;
   auto noteDecision = [&](uint32_t s, const std::string& what) {
     if (decisionMismatch++ < 5) notes += fmt::format("segment {}: {}\n", s, what);
   };
+  // The CPU's counts against eq. 4 written above (a count the two sides share
+  // passes the cross-check whatever it is).
+  for (size_t i = 0; i < cpu.geometry.segments.size(); ++i) {
+    const uint32_t s = cpu.geometry.segments[i];
+    const SegmentDecision& c = cpu.geometry.decisions[i];
+    if (c.culled != 0u || ambiguous.count(s)) continue;
+    ++eq4Checked;
+    const uint32_t expected = eq4RegularCount(params, view, loadSegmentCpu(ctx.buffers(), ctx.cpuFrames(), s));
+    if (c.regularCount != expected && eq4Mismatch++ < 5)
+      notes += fmt::format("segment {}: {} regular fibers per ply, eq. 4 gives {}\n", s, c.regularCount, expected);
+  }
   if (!spec.tessellation) {
     if (gpuDecisions.size() != cpu.geometry.decisions.size())
       throw std::runtime_error("compute path returned a decision count different from the segment list");
@@ -291,6 +317,10 @@ CaseResult runFiberCase(ValidationContext& ctx, const FiberCaseSpec& spec, const
       exact("ids.mismatched", double(cmp.idMismatch),
             "yarn, type and period tags come from exact integer/float operations"),
       exact("decisions.mismatched", double(decisionMismatch), "LoD counts and culling are discrete decisions"),
+      exact("lod.count_vs_eq4", double(eq4Mismatch),
+            "the CPU's regular fibers per ply against round(λ² n_max) of eq. 4 computed in the case (segments near a "
+            "rounding boundary left out)"),
+      Metric{"lod.segments_checked", double(eq4Checked), 0.0, "segments", "segments whose count eq. 4 judged", false},
       nonFiniteMetric("cpu", cpuNonFinite, "CPU vertex coordinates, widths and λ"),
       nonFiniteMetric("gpu", gpuNonFinite, "GPU vertex coordinates, widths and λ"),
       Metric{"position.max_abs", cmp.maxAbs, posTol, "world units", kPositionWhy, true},
