@@ -420,6 +420,42 @@ TEST(Lod, LambdaInteriorValuesByHand) {
   EXPECT_NEAR(ftLodLambda(1.0f, 3.0f, 2.0f), 0.25f, 1e-6f);
 }
 
+// Eq. 4's count: n = λ² n_max to the nearest whole fiber, so a view where
+// λ² n_max < ½ draws no regular fiber (the core has grown to the ply), and
+// none where λ = 0. Swept over distances that take λ from 1 to 0; λ is
+// checked against eq. 4 by hand above, the rounding here.
+TEST(Lod, RegularCountIsEquation4RoundedToNearest) {
+  YarnParams p{};
+  p.plyCount = 3;
+  p.maxSubdivisions = 64;
+  p.regularFibers = 20;
+  p.fiberRadius = 0.002f;
+  p.ellipseB = 0.02f;
+  p.rhoMax = 1.0f;
+  YarnSegment seg{};
+  seg.b0 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  seg.b1 = vec4(0.125f, 0.0f, 0.0f, 1.0f);
+  seg.b2 = vec4(0.25f, 0.0f, 0.0f, 1.0f);
+  seg.b3 = vec4(0.375f, 0.0f, 0.0f, 1.0f);
+  seg.s1 = 0.375f;
+  int zeroWithLambda = 0, belowHalf = 0;
+  for (float z = 0.5f; z < 400.0f; z *= 1.03f) {
+    Camera cam;
+    cam.eye = {0.1875f, 0.0f, z};
+    cam.target = {0.1875f, 0.0f, 0.0f};
+    const SegmentDecision d = ftDecideSegment(p, makeViewParams(cam, 1.0f, true, false, 0.25f), seg);
+    const double n = double(d.lambda) * d.lambda * p.regularFibers;
+    if (std::abs(n - std::floor(n) - 0.5) < 1e-4) continue;  // on a rounding boundary
+    EXPECT_EQ(d.regularCount, uint32_t(std::floor(n + 0.5))) << "z " << z << " λ² n_max " << n;
+    if (d.lambda > 0.0f && n < 0.5) {
+      ++belowHalf;
+      if (d.regularCount == 0u) ++zeroWithLambda;
+    }
+  }
+  EXPECT_GT(belowHalf, 0);  // the sweep reaches λ > 0 with fewer than half a fiber
+  EXPECT_EQ(zeroWithLambda, belowHalf);
+}
+
 // The subdivision bound of docs/pictures.md, evaluated here in double from
 // its written form, on a straight and a bent segment seen from 5 units:
 //   n = sqrt(|x''| · ppu / (8 ε)),
