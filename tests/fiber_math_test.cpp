@@ -420,6 +420,19 @@ TEST(Lod, LambdaInteriorValuesByHand) {
   EXPECT_NEAR(ftLodLambda(1.0f, 3.0f, 2.0f), 0.25f, 1e-6f);
 }
 
+// A straight segment along x from the origin, 0.375 long, its Bézier points
+// at binary fractions (the centre term of the subdivision bound is exactly 0).
+YarnSegment straightSegment(float s0) {
+  YarnSegment seg{};
+  seg.b0 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  seg.b1 = vec4(0.125f, 0.0f, 0.0f, 1.0f);
+  seg.b2 = vec4(0.25f, 0.0f, 0.0f, 1.0f);
+  seg.b3 = vec4(0.375f, 0.0f, 0.0f, 1.0f);
+  seg.s0 = s0;
+  seg.s1 = s0 + 0.375f;
+  return seg;
+}
+
 // Eq. 4's count: n = λ² n_max to the nearest whole fiber, so a view where
 // λ² n_max < ½ draws no regular fiber (the core has grown to the ply), and
 // none where λ = 0. Swept over distances that take λ from 1 to 0; λ is
@@ -432,12 +445,7 @@ TEST(Lod, RegularCountIsEquation4RoundedToNearest) {
   p.fiberRadius = 0.002f;
   p.ellipseB = 0.02f;
   p.rhoMax = 1.0f;
-  YarnSegment seg{};
-  seg.b0 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  seg.b1 = vec4(0.125f, 0.0f, 0.0f, 1.0f);
-  seg.b2 = vec4(0.25f, 0.0f, 0.0f, 1.0f);
-  seg.b3 = vec4(0.375f, 0.0f, 0.0f, 1.0f);
-  seg.s1 = 0.375f;
+  const YarnSegment seg = straightSegment(0.0f);
   int zeroWithLambda = 0, belowHalf = 0;
   for (float z = 0.5f; z < 400.0f; z *= 1.03f) {
     Camera cam;
@@ -486,13 +494,7 @@ TEST(Lod, SubdivisionBoundAsDocumented) {
                          rFib * (wPly + wFib + turning) * (wPly + wFib + turning) + aMig * wMig * wMig;
     return std::sqrt(accel * ppu / (8.0 * 0.25));
   };
-  YarnSegment straight{};
-  straight.b0 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  straight.b1 = vec4(0.125f, 0.0f, 0.0f, 1.0f);  // binary fractions: the centre term is exactly 0
-  straight.b2 = vec4(0.25f, 0.0f, 0.0f, 1.0f);
-  straight.b3 = vec4(0.375f, 0.0f, 0.0f, 1.0f);
-  straight.s0 = 1.0f;
-  straight.s1 = 1.375f;
+  const YarnSegment straight = straightSegment(1.0f);
   EXPECT_NEAR(ftSubdivisionEstimate(p, v, straight) / expected(0.0, 0.0, 0.375), 1.0, 1e-5);
   // Bent by 45° at b1 and at b2: |b0 − 2b1 + b2| = |b1 − 2b2 + b3| = 0.1, Θ = π/2.
   YarnSegment bent{};
