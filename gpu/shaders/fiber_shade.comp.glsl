@@ -29,5 +29,6 @@ void main() {
   FiberHit h;
   uint type;
   ftUnpackHit(r, h, type);
+  if (h.core.z != 0.0) finishCoreTexture(h);  // a textured core: its normal and direction
   entries[k].color = vec4(shadeFiberOfType(h, type), 1.0);
 }

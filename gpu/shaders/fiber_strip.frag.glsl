@@ -19,9 +19,10 @@
 //    HDR radiance (a float target), alpha 1 for coverage.
 //
 // Deferred shading (docs/shaded-frame.md, FiberRenderer::drawDeferred):
-//  * FT_VISIBILITY_PASS: the same casts, coverage, core texture and depth, but
-//    instead of shading the fragment writes its hit (FiberHit, everything
-//    shadeFiber reads) as FT_VISIBILITY_TARGETS float vectors;
+//  * FT_VISIBILITY_PASS: the same casts, coverage, core texture holes and
+//    depth, but instead of shading the fragment writes its hit (FiberHit,
+//    everything shadeFiber reads; at a textured core what the texture's
+//    normal and direction are computed from) as FT_VISIBILITY_TARGETS float vectors;
 //  * FT_DEFERRED_SHADE: this file included by fiber_shade.comp.glsl without
 //    the fragment stage (varyings, casts, main), for shadeFiber on the hits.
 #include "common/ambient_occlusion.h"
@@ -143,6 +144,12 @@ struct FiberHit {
   vec3 yarnN;
   vec3 yarnB;
   uint curve;
+#if defined(FT_VISIBILITY_PASS) || defined(FT_DEFERRED_SHADE)
+  // Deferred only: a textured core's texture coordinates (u, v, 1, 0), 0
+  // elsewhere; with it `tangent` holds T̂ and `normal` v̂_p until the shading
+  // kernel's finishCoreTexture replaces them (applyCoreTexture).
+  vec4 core;
+#endif
 };
 
 // What the shading reads of the line at a hit: the varyings in the fragment
@@ -290,17 +297,36 @@ float selfShadowTransmittance(CrossSection c, vec3 wi) {
 // height-map to determine these holes"), else replaces the hit's normal,
 // tangent (the BCSDF's fiber direction) and position (moved by h towards the
 // viewer, which the self-shadow lookup then uses).
-#ifndef FT_DEFERRED_SHADE
 vec4 coreTexel0(uint i, uint j) { return coreTex0[j * coreTexture.columns + i]; }
 vec4 coreTexel1(uint i, uint j) { return coreTex1[j * coreTexture.columns + i]; }
+// mix(a, b, t) written out as a + t (b − a): Mesa's NIR lowers each mix()
+// by what else the shader computes — to this form in the fragment stages
+// here, to a (1 − t) + b t in the deferred shading kernel — so the kernel's
+// finishCoreTexture rounded the lerps differently from the forward pass (up
+// to 1.6e-4 of a pixel's value through cotton's 1°-wide lobes). Written out,
+// every pass computes the same, and the fragment stages exactly what mix()
+// gave them (the glove's EXRs are byte-identical). Not `precise`: that
+// reaches back into u and v, i.e. the hole test, and changed the frame.
+vec4 coreMix(vec4 a, vec4 b, float t) { return a + t * (b - a); }
 vec4 coreLerp0(CoreLookup l) {
-  return mix(mix(coreTexel0(l.i.x, l.j.x), coreTexel0(l.i.y, l.j.x), l.w.x),
-             mix(coreTexel0(l.i.x, l.j.y), coreTexel0(l.i.y, l.j.y), l.w.x), l.w.y);
+  return coreMix(coreMix(coreTexel0(l.i.x, l.j.x), coreTexel0(l.i.y, l.j.x), l.w.x),
+                 coreMix(coreTexel0(l.i.x, l.j.y), coreTexel0(l.i.y, l.j.y), l.w.x), l.w.y);
 }
 vec4 coreLerp1(CoreLookup l) {
-  return mix(mix(coreTexel1(l.i.x, l.j.x), coreTexel1(l.i.y, l.j.x), l.w.x),
-             mix(coreTexel1(l.i.x, l.j.y), coreTexel1(l.i.y, l.j.y), l.w.x), l.w.y);
+  return coreMix(coreMix(coreTexel1(l.i.x, l.j.x), coreTexel1(l.i.y, l.j.x), l.w.x),
+                 coreMix(coreTexel1(l.i.x, l.j.y), coreTexel1(l.i.y, l.j.y), l.w.x), l.w.y);
 }
+// The texture's normal and fiber direction at lookup l (t0 = coreLerp0(l)) in
+// the frame (T̂, side, v̂_p): the forward pass's, and the deferred shading
+// kernel's from the values the visibility pass wrote (finishCoreTexture).
+void coreTextureShadingFrame(CoreLookup l, vec4 t0, vec3 T, vec3 side, vec3 vp, inout FiberHit h) {
+  vec4 t1 = coreLerp1(l);
+  vec3 n = ftCoreTexelNormal(t0);  // (n_x toward the viewer, n_y, n_z) in the bake frame
+  h.normal = normalize(n.z * T + n.y * side + n.x * vp);
+  vec3 t = t1.x * T + t1.y * side + t1.z * vp;
+  if (dot(t, t) > 0.0) h.tangent = normalize(t);
+}
+#ifndef FT_DEFERRED_SHADE
 bool applyCoreTexture(inout FiberHit h) {
   CrossSection c = crossSection(h);
   vec4 cs = FT_HIT_YARN_C(h);
@@ -341,11 +367,19 @@ bool applyCoreTexture(inout FiberHit h) {
     }
 #endif
 #endif
-  vec4 t0 = coreLerp0(l), t1 = coreLerp1(l);
-  vec3 n = ftCoreTexelNormal(t0);  // (n_x toward the viewer, n_y, n_z) in the bake frame
-  h.normal = normalize(n.z * T + n.y * side + n.x * vp);
-  vec3 t = t1.x * T + t1.y * side + t1.z * vp;
-  if (dot(t, t) > 0.0) h.tangent = normalize(t);
+  vec4 t0 = coreLerp0(l);
+#ifdef FT_VISIBILITY_PASS
+  // Deferred: only the hole and the moved position (the depth) decide
+  // visibility here; the normal and fiber direction are the shading
+  // kernel's (finishCoreTexture), from T̂, v̂_p and (u, v) as computed here,
+  // which the record carries (ftPackHit): on llvmpipe this pass pays every
+  // statement for every rasterised fragment (docs/shaded-frame.md).
+  h.tangent = T;
+  h.normal = vp;
+  h.core = vec4(u, v, 1.0, 0.0);
+#else
+  coreTextureShadingFrame(l, t0, T, side, vp, h);
+#endif
   h.position = axisPoint + (2.0 * t0.x - 1.0) * halfWidth * vp + y * side;
   return true;
 }
@@ -570,9 +604,12 @@ vec3 shadeFiberOfType(FiberHit h, uint type) {
   return rgb;
 }
 
+#if defined(FT_VISIBILITY_PASS) || defined(FT_DEFERRED_SHADE)
 // The deferred hit record (FT_VISIBILITY_TARGETS vec4s): every field of
 // FiberHit that shadeFiber reads, bit for bit, and the fiber type; record 0's
-// w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn.
+// w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn. At a
+// textured core, tangent and normal hold T̂ and v̂_p and record 5 the texture
+// coordinates (h.core), from which the kernel finishes the texture.
 void ftPackHit(FiberHit h, uint type, out vec4 r[FT_VISIBILITY_TARGETS]) {
   vec4 yc = FT_HIT_YARN_C(h);
   vec3 yn = FT_HIT_YARN_N(h), yb = FT_HIT_YARN_B(h);
@@ -581,6 +618,7 @@ void ftPackHit(FiberHit h, uint type, out vec4 r[FT_VISIBILITY_TARGETS]) {
   r[2] = vec4(h.normal, yn.x);
   r[3] = vec4(yc.xyz, yn.y);
   r[4] = vec4(yb, yn.z);
+  r[5] = h.core;
 }
 void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   uint code = uint(r[0].w) - 1u;
@@ -593,7 +631,26 @@ void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   h.yarnN = vec3(r[2].w, r[3].w, r[4].w);
   h.yarnB = r[4].xyz;
   h.curve = code >> 2u;
+  h.core = r[5];
 }
+#endif
+
+#ifdef FT_DEFERRED_SHADE
+// The core-fiber texture's normal and fiber direction at a textured core's
+// hit (h.core.z = 1), as applyCoreTexture computes them in the forward pass,
+// from the same floats: T̂ (tangent's place), v̂_p (normal's place) and (u, v)
+// as the visibility pass computed them; side (a cross product) and the
+// lookup (fract, floor) recomputed from them round as there, the lerps are
+// written out (coreMix). Where t = 0 the forward pass keeps the cast's
+// tangent, this T̂ (t_u > 0 at every solid texel and the nearest is solid,
+// so it does not arise; docs/shaded-frame.md).
+void finishCoreTexture(inout FiberHit h) {
+  vec3 T = h.tangent, vp = h.normal;
+  vec3 side = cross(T, vp);
+  CoreLookup l = ftCoreTextureLookup(coreTexture.width, coreTexture.height, h.core.x, h.core.y);
+  coreTextureShadingFrame(l, coreLerp0(l), T, side, vp, h);
+}
+#endif
 
 #ifndef FT_DEFERRED_SHADE
 void main() {
@@ -649,6 +706,9 @@ void main() {
                   castCapsule(centreCovered ? stripWorld : interpolateAtSample(stripWorld, max(firstCovered, 0)), h);
   mask &= gl_SampleMaskIn[0];
   if (mask == 0 || !shadeHit) discard;
+#ifdef FT_VISIBILITY_PASS
+  h.core = vec4(0.0);  // not a textured core (applyCoreTexture sets it)
+#endif
   if (stripType == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u && shaded != 0u &&
       !applyCoreTexture(h))
     discard;
