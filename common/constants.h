@@ -71,9 +71,9 @@
 
 // Deferred shading of the frame (FiberRenderer::drawDeferred, docs/shaded-frame.md):
 // the visibility pass's hit records (FT_VISIBILITY_TARGETS 4× multisampled
-// RGBA32F textures, read at texture units 1–6) and the list of distinct hits
+// RGBA32F textures, read at texture units 1–5) and the list of distinct hits
 // to shade (SSBO 73, the last free slot below llvmpipe's 80).
-#define FT_VISIBILITY_TARGETS 6    // vec4s per hit record (fiber_strip.frag.glsl ftPackHit)
+#define FT_VISIBILITY_TARGETS 5    // vec4s per hit record (fiber_strip.frag.glsl ftPackHit)
 #define FT_DEFERRED_SAMPLES 4      // the shaded target's samples per pixel
 #define FT_TEX_HIT_RECORD0 1       // sampler2DMS: record k at unit FT_TEX_HIT_RECORD0 + k
 #define FT_SSBO_DEFERRED_LIST 73   // uvec4 header (x: entries), then (uvec4 x, y, sample, mask; vec4 colour) per entry

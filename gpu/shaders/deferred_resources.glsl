@@ -8,7 +8,6 @@ layout(binding = FT_TEX_HIT_RECORD0 + 1) uniform sampler2DMS hitRecord1;
 layout(binding = FT_TEX_HIT_RECORD0 + 2) uniform sampler2DMS hitRecord2;
 layout(binding = FT_TEX_HIT_RECORD0 + 3) uniform sampler2DMS hitRecord3;
 layout(binding = FT_TEX_HIT_RECORD0 + 4) uniform sampler2DMS hitRecord4;
-layout(binding = FT_TEX_HIT_RECORD0 + 5) uniform sampler2DMS hitRecord5;
 // header.x: the entry count; then per entry (x, y, the sample whose record is shaded, sample mask) and its colour.
 struct DeferredEntry {
   uvec4 where;
@@ -26,5 +25,4 @@ void hitRecordAt(ivec2 p, int s, out vec4 r[FT_VISIBILITY_TARGETS]) {
   r[2] = texelFetch(hitRecord2, p, s);
   r[3] = texelFetch(hitRecord3, p, s);
   r[4] = texelFetch(hitRecord4, p, s);
-  r[5] = texelFetch(hitRecord5, p, s);
 }

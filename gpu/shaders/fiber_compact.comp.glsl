@@ -14,7 +14,7 @@ layout(local_size_x = FT_WG_DEFERRED_COMPACT, local_size_y = FT_WG_DEFERRED_COMP
 
 uniform uvec2 size;
 
-// The record's 4·FT_VISIBILITY_TARGETS words at sample s, as bits (so that equality is exact).
+// The record's 20 words at sample s, as bits (so that equality is exact).
 void recordBits(ivec2 p, int s, out uvec4 r[FT_VISIBILITY_TARGETS]) {
   vec4 f[FT_VISIBILITY_TARGETS];
   hitRecordAt(p, s, f);

@@ -144,12 +144,6 @@ struct FiberHit {
   vec3 yarnN;
   vec3 yarnB;
   uint curve;
-#if defined(FT_VISIBILITY_PASS) || defined(FT_DEFERRED_SHADE)
-  // Deferred only: a textured core's texture coordinates (u, v, 1, 0), 0
-  // elsewhere; with it `tangent` holds T̂ and `normal` v̂_p until the shading
-  // kernel's finishCoreTexture replaces them (applyCoreTexture).
-  vec4 core;
-#endif
 };
 
 // What the shading reads of the line at a hit: the varyings in the fragment
@@ -274,6 +268,8 @@ CrossSection crossSection(FiberHit h) {
   c.plyAngle = FT_TWO_PI * yarn.plyTwistSign * fract(cs.w * r.ply);
   return c;
 }
+// The yarn's axis T̂ = N̂ × B̂ at the cross-section.
+vec3 crossSectionAxis(CrossSection c) { return normalize(cross(c.N, c.B)); }
 
 // T_self = exp(−κD) of the light towards `wi` (000 §4.1, common/self_shadow.h).
 float selfShadowTransmittance(CrossSection c, vec3 wi) {
@@ -330,7 +326,7 @@ void coreTextureShadingFrame(CoreLookup l, vec4 t0, vec3 T, vec3 side, vec3 vp, 
 bool applyCoreTexture(inout FiberHit h) {
   CrossSection c = crossSection(h);
   vec4 cs = FT_HIT_YARN_C(h);
-  vec3 T = normalize(cross(c.N, c.B));
+  vec3 T = crossSectionAxis(c);
   vec3 axisPoint = mix(lineP0, lineP1, h.along);  // the ply centre (the core runs along it)
   vec3 q = axisPoint - cs.xyz;
   q -= dot(q, T) * T;
@@ -371,12 +367,12 @@ bool applyCoreTexture(inout FiberHit h) {
 #ifdef FT_VISIBILITY_PASS
   // Deferred: only the hole and the moved position (the depth) decide
   // visibility here; the normal and fiber direction are the shading
-  // kernel's (finishCoreTexture), from T̂, v̂_p and (u, v) as computed here,
-  // which the record carries (ftPackHit): on llvmpipe this pass pays every
-  // statement for every rasterised fragment (docs/shaded-frame.md).
-  h.tangent = T;
+  // kernel's (finishCoreTexture), from v̂_p and (u, v) as computed here,
+  // which the record carries in the normal's and the tangent's place: on
+  // llvmpipe this pass pays every statement for every rasterised fragment
+  // (docs/shaded-frame.md).
+  h.tangent = vec3(u, v, 0.0);
   h.normal = vp;
-  h.core = vec4(u, v, 1.0, 0.0);
 #else
   coreTextureShadingFrame(l, t0, T, side, vp, h);
 #endif
@@ -468,7 +464,7 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
   DsTexel t = ftDsMix(dsTexel(int(k.x)), dsTexel(int(k.y)), k.z);
   vec3 local = ftDsRuntime(f, ftDsBackscatter(t, a, vec3(0.0)), 1.0);  // k_fly = 1: no flyaway scaling (A8)
   // The yarn's frame at the hit.
-  vec3 T = normalize(cross(c.N, c.B));
+  vec3 T = crossSectionAxis(c);
   vec4 cs = FT_HIT_YARN_C(h);
   vec3 vp = v - dot(v, T) * T;
   vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;  // seen end-on: any side
@@ -510,7 +506,7 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
 // The ξ texture coordinate of the hit and the yarn tangent T, as
 // dualScatteringLight forms them (for eq. 17's per-lobe lookups).
 vec2 xiTexCoordAt(FiberHit h, CrossSection c, vec3 v, out vec3 T) {
-  T = normalize(cross(c.N, c.B));
+  T = crossSectionAxis(c);
   vec4 cs = FT_HIT_YARN_C(h);
   vec3 vp = v - dot(v, T) * T;
   vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;
@@ -608,8 +604,8 @@ vec3 shadeFiberOfType(FiberHit h, uint type) {
 // The deferred hit record (FT_VISIBILITY_TARGETS vec4s): every field of
 // FiberHit that shadeFiber reads, bit for bit, and the fiber type; record 0's
 // w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn. At a
-// textured core, tangent and normal hold T̂ and v̂_p and record 5 the texture
-// coordinates (h.core), from which the kernel finishes the texture.
+// textured core, tangent and normal hold (u, v, 0) and v̂_p, from which the
+// kernel finishes the texture (finishCoreTexture).
 void ftPackHit(FiberHit h, uint type, out vec4 r[FT_VISIBILITY_TARGETS]) {
   vec4 yc = FT_HIT_YARN_C(h);
   vec3 yn = FT_HIT_YARN_N(h), yb = FT_HIT_YARN_B(h);
@@ -618,7 +614,6 @@ void ftPackHit(FiberHit h, uint type, out vec4 r[FT_VISIBILITY_TARGETS]) {
   r[2] = vec4(h.normal, yn.x);
   r[3] = vec4(yc.xyz, yn.y);
   r[4] = vec4(yb, yn.z);
-  r[5] = h.core;
 }
 void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   uint code = uint(r[0].w) - 1u;
@@ -631,23 +626,23 @@ void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   h.yarnN = vec3(r[2].w, r[3].w, r[4].w);
   h.yarnB = r[4].xyz;
   h.curve = code >> 2u;
-  h.core = r[5];
 }
 #endif
 
 #ifdef FT_DEFERRED_SHADE
 // The core-fiber texture's normal and fiber direction at a textured core's
-// hit (h.core.z = 1), as applyCoreTexture computes them in the forward pass,
-// from the same floats: T̂ (tangent's place), v̂_p (normal's place) and (u, v)
-// as the visibility pass computed them; side (a cross product) and the
-// lookup (fract, floor) recomputed from them round as there, the lerps are
-// written out (coreMix). Where t = 0 the forward pass keeps the cast's
-// tangent, this T̂ (t_u > 0 at every solid texel and the nearest is solid,
-// so it does not arise; docs/shaded-frame.md).
+// hit, as applyCoreTexture computes them in the forward pass, from the same
+// floats: the record's yarn frame, v̂_p (normal's place) and (u, v)
+// (tangent's place) as the visibility pass computed them. T̂ (from the yarn
+// frame, crossSectionAxis), side (a cross product) and the lookup (fract,
+// floor) round as there; the lerps are written out (coreMix). Where t = 0
+// the forward pass keeps the cast's tangent, this T̂ (t_u > 0 at every solid
+// texel and the nearest is solid, so it does not arise).
 void finishCoreTexture(inout FiberHit h) {
-  vec3 T = h.tangent, vp = h.normal;
+  vec3 T = crossSectionAxis(crossSection(h)), vp = h.normal;
   vec3 side = cross(T, vp);
-  CoreLookup l = ftCoreTextureLookup(coreTexture.width, coreTexture.height, h.core.x, h.core.y);
+  CoreLookup l = ftCoreTextureLookup(coreTexture.width, coreTexture.height, h.tangent.x, h.tangent.y);
+  h.tangent = T;
   coreTextureShadingFrame(l, coreLerp0(l), T, side, vp, h);
 }
 #endif
@@ -706,9 +701,6 @@ void main() {
                   castCapsule(centreCovered ? stripWorld : interpolateAtSample(stripWorld, max(firstCovered, 0)), h);
   mask &= gl_SampleMaskIn[0];
   if (mask == 0 || !shadeHit) discard;
-#ifdef FT_VISIBILITY_PASS
-  h.core = vec4(0.0);  // not a textured core (applyCoreTexture sets it)
-#endif
   if (stripType == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u && shaded != 0u &&
       !applyCoreTexture(h))
     discard;
