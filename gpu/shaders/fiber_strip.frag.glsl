@@ -292,7 +292,8 @@ float selfShadowTransmittance(CrossSection c, vec3 wi) {
 // with it. Returns false on a hole (h = 0 at the nearest texel: 000 "use the
 // height-map to determine these holes"), else replaces the hit's normal,
 // tangent (the BCSDF's fiber direction) and position (moved by h towards the
-// viewer, which the self-shadow lookup then uses).
+// viewer, which the self-shadow lookup then uses); the visibility pass leaves
+// the normal and tangent to the shading kernel (finishCoreTexture).
 vec4 coreTexel0(uint i, uint j) { return coreTex0[j * coreTexture.columns + i]; }
 vec4 coreTexel1(uint i, uint j) { return coreTex1[j * coreTexture.columns + i]; }
 // mix(a, b, t) written out as a + t (b − a): Mesa's NIR lowers each mix()
@@ -600,7 +601,6 @@ vec3 shadeFiberOfType(FiberHit h, uint type) {
   return rgb;
 }
 
-#if defined(FT_VISIBILITY_PASS) || defined(FT_DEFERRED_SHADE)
 // The deferred hit record (FT_VISIBILITY_TARGETS vec4s): every field of
 // FiberHit that shadeFiber reads, bit for bit, and the fiber type; record 0's
 // w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn. At a
@@ -627,7 +627,6 @@ void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   h.yarnB = r[4].xyz;
   h.curve = code >> 2u;
 }
-#endif
 
 #ifdef FT_DEFERRED_SHADE
 // The core-fiber texture's normal and fiber direction at a textured core's
