@@ -29,5 +29,8 @@ void main() {
   FiberHit h;
   uint type;
   ftUnpackHit(r, h, type);
+  // A textured core (the condition of the visibility pass's applyCoreTexture):
+  // the record holds what the texture's normal and direction are computed from.
+  if (type == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u) finishCoreTexture(h);
   entries[k].color = vec4(shadeFiberOfType(h, type), 1.0);
 }

@@ -19,9 +19,10 @@
 //    HDR radiance (a float target), alpha 1 for coverage.
 //
 // Deferred shading (docs/shaded-frame.md, FiberRenderer::drawDeferred):
-//  * FT_VISIBILITY_PASS: the same casts, coverage, core texture and depth, but
-//    instead of shading the fragment writes its hit (FiberHit, everything
-//    shadeFiber reads) as FT_VISIBILITY_TARGETS float vectors;
+//  * FT_VISIBILITY_PASS: the same casts, coverage, core texture holes and
+//    depth, but instead of shading the fragment writes its hit (FiberHit,
+//    everything shadeFiber reads; at a textured core what the texture's
+//    normal and direction are computed from) as FT_VISIBILITY_TARGETS float vectors;
 //  * FT_DEFERRED_SHADE: this file included by fiber_shade.comp.glsl without
 //    the fragment stage (varyings, casts, main), for shadeFiber on the hits.
 #include "common/ambient_occlusion.h"
@@ -267,6 +268,8 @@ CrossSection crossSection(FiberHit h) {
   c.plyAngle = FT_TWO_PI * yarn.plyTwistSign * fract(cs.w * r.ply);
   return c;
 }
+// The yarn's axis T̂ = N̂ × B̂ at the cross-section.
+vec3 crossSectionAxis(CrossSection c) { return normalize(cross(c.N, c.B)); }
 
 // T_self = exp(−κD) of the light towards `wi` (000 §4.1, common/self_shadow.h).
 float selfShadowTransmittance(CrossSection c, vec3 wi) {
@@ -289,22 +292,42 @@ float selfShadowTransmittance(CrossSection c, vec3 wi) {
 // with it. Returns false on a hole (h = 0 at the nearest texel: 000 "use the
 // height-map to determine these holes"), else replaces the hit's normal,
 // tangent (the BCSDF's fiber direction) and position (moved by h towards the
-// viewer, which the self-shadow lookup then uses).
-#ifndef FT_DEFERRED_SHADE
+// viewer, which the self-shadow lookup then uses); the visibility pass leaves
+// the normal and tangent to the shading kernel (finishCoreTexture).
 vec4 coreTexel0(uint i, uint j) { return coreTex0[j * coreTexture.columns + i]; }
 vec4 coreTexel1(uint i, uint j) { return coreTex1[j * coreTexture.columns + i]; }
+// mix(a, b, t) written out as a + t (b − a): Mesa's NIR lowers each mix()
+// by what else the shader computes — to this form in the fragment stages
+// here, to a (1 − t) + b t in the deferred shading kernel — so the kernel's
+// finishCoreTexture rounded the lerps differently from the forward pass (up
+// to 1.6e-4 of a pixel's value through cotton's 1°-wide lobes). Written out,
+// every pass computes the same, and the fragment stages exactly what mix()
+// gave them (the glove's EXRs are byte-identical). Not `precise`: that
+// reaches back into u and v, i.e. the hole test, and changed the frame.
+vec4 coreMix(vec4 a, vec4 b, float t) { return a + t * (b - a); }
 vec4 coreLerp0(CoreLookup l) {
-  return mix(mix(coreTexel0(l.i.x, l.j.x), coreTexel0(l.i.y, l.j.x), l.w.x),
-             mix(coreTexel0(l.i.x, l.j.y), coreTexel0(l.i.y, l.j.y), l.w.x), l.w.y);
+  return coreMix(coreMix(coreTexel0(l.i.x, l.j.x), coreTexel0(l.i.y, l.j.x), l.w.x),
+                 coreMix(coreTexel0(l.i.x, l.j.y), coreTexel0(l.i.y, l.j.y), l.w.x), l.w.y);
 }
 vec4 coreLerp1(CoreLookup l) {
-  return mix(mix(coreTexel1(l.i.x, l.j.x), coreTexel1(l.i.y, l.j.x), l.w.x),
-             mix(coreTexel1(l.i.x, l.j.y), coreTexel1(l.i.y, l.j.y), l.w.x), l.w.y);
+  return coreMix(coreMix(coreTexel1(l.i.x, l.j.x), coreTexel1(l.i.y, l.j.x), l.w.x),
+                 coreMix(coreTexel1(l.i.x, l.j.y), coreTexel1(l.i.y, l.j.y), l.w.x), l.w.y);
 }
+// The texture's normal and fiber direction at lookup l (t0 = coreLerp0(l)) in
+// the frame (T̂, side, v̂_p): the forward pass's, and the deferred shading
+// kernel's from the values the visibility pass wrote (finishCoreTexture).
+void coreTextureShadingFrame(CoreLookup l, vec4 t0, vec3 T, vec3 side, vec3 vp, inout FiberHit h) {
+  vec4 t1 = coreLerp1(l);
+  vec3 n = ftCoreTexelNormal(t0);  // (n_x toward the viewer, n_y, n_z) in the bake frame
+  h.normal = normalize(n.z * T + n.y * side + n.x * vp);
+  vec3 t = t1.x * T + t1.y * side + t1.z * vp;
+  if (dot(t, t) > 0.0) h.tangent = normalize(t);
+}
+#ifndef FT_DEFERRED_SHADE
 bool applyCoreTexture(inout FiberHit h) {
   CrossSection c = crossSection(h);
   vec4 cs = FT_HIT_YARN_C(h);
-  vec3 T = normalize(cross(c.N, c.B));
+  vec3 T = crossSectionAxis(c);
   vec3 axisPoint = mix(lineP0, lineP1, h.along);  // the ply centre (the core runs along it)
   vec3 q = axisPoint - cs.xyz;
   q -= dot(q, T) * T;
@@ -341,11 +364,19 @@ bool applyCoreTexture(inout FiberHit h) {
     }
 #endif
 #endif
-  vec4 t0 = coreLerp0(l), t1 = coreLerp1(l);
-  vec3 n = ftCoreTexelNormal(t0);  // (n_x toward the viewer, n_y, n_z) in the bake frame
-  h.normal = normalize(n.z * T + n.y * side + n.x * vp);
-  vec3 t = t1.x * T + t1.y * side + t1.z * vp;
-  if (dot(t, t) > 0.0) h.tangent = normalize(t);
+  vec4 t0 = coreLerp0(l);
+#ifdef FT_VISIBILITY_PASS
+  // Deferred: only the hole and the moved position (the depth) decide
+  // visibility here; the normal and fiber direction are the shading
+  // kernel's (finishCoreTexture), from v̂_p and (u, v) as computed here,
+  // which the record carries in the normal's and the tangent's place: on
+  // llvmpipe this pass pays every statement for every rasterised fragment
+  // (docs/shaded-frame.md).
+  h.tangent = vec3(u, v, 0.0);
+  h.normal = vp;
+#else
+  coreTextureShadingFrame(l, t0, T, side, vp, h);
+#endif
   h.position = axisPoint + (2.0 * t0.x - 1.0) * halfWidth * vp + y * side;
   return true;
 }
@@ -434,7 +465,7 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
   DsTexel t = ftDsMix(dsTexel(int(k.x)), dsTexel(int(k.y)), k.z);
   vec3 local = ftDsRuntime(f, ftDsBackscatter(t, a, vec3(0.0)), 1.0);  // k_fly = 1: no flyaway scaling (A8)
   // The yarn's frame at the hit.
-  vec3 T = normalize(cross(c.N, c.B));
+  vec3 T = crossSectionAxis(c);
   vec4 cs = FT_HIT_YARN_C(h);
   vec3 vp = v - dot(v, T) * T;
   vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;  // seen end-on: any side
@@ -476,7 +507,7 @@ vec3 dualScatteringLight(int i, FiberHit h, CrossSection c, vec3 v) {
 // The ξ texture coordinate of the hit and the yarn tangent T, as
 // dualScatteringLight forms them (for eq. 17's per-lobe lookups).
 vec2 xiTexCoordAt(FiberHit h, CrossSection c, vec3 v, out vec3 T) {
-  T = normalize(cross(c.N, c.B));
+  T = crossSectionAxis(c);
   vec4 cs = FT_HIT_YARN_C(h);
   vec3 vp = v - dot(v, T) * T;
   vec3 side = dot(vp, vp) > 1e-12 ? normalize(cross(T, vp)) : c.B;
@@ -572,7 +603,9 @@ vec3 shadeFiberOfType(FiberHit h, uint type) {
 
 // The deferred hit record (FT_VISIBILITY_TARGETS vec4s): every field of
 // FiberHit that shadeFiber reads, bit for bit, and the fiber type; record 0's
-// w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn.
+// w is 1 + curve·4 + type (exact in a float), 0 where no fiber is drawn. At a
+// textured core, tangent and normal hold (u, v, 0) and v̂_p, from which the
+// kernel finishes the texture (finishCoreTexture).
 void ftPackHit(FiberHit h, uint type, out vec4 r[FT_VISIBILITY_TARGETS]) {
   vec4 yc = FT_HIT_YARN_C(h);
   vec3 yn = FT_HIT_YARN_N(h), yb = FT_HIT_YARN_B(h);
@@ -594,6 +627,24 @@ void ftUnpackHit(vec4 r[FT_VISIBILITY_TARGETS], out FiberHit h, out uint type) {
   h.yarnB = r[4].xyz;
   h.curve = code >> 2u;
 }
+
+#ifdef FT_DEFERRED_SHADE
+// The core-fiber texture's normal and fiber direction at a textured core's
+// hit, as applyCoreTexture computes them in the forward pass, from the same
+// floats: the record's yarn frame, v̂_p (normal's place) and (u, v)
+// (tangent's place) as the visibility pass computed them. T̂ (from the yarn
+// frame, crossSectionAxis), side (a cross product) and the lookup (fract,
+// floor) round as there; the lerps are written out (coreMix). Where t = 0
+// the forward pass keeps the cast's tangent, this T̂ (t_u > 0 at every solid
+// texel and the nearest is solid, so it does not arise).
+void finishCoreTexture(inout FiberHit h) {
+  vec3 T = crossSectionAxis(crossSection(h)), vp = h.normal;
+  vec3 side = cross(T, vp);
+  CoreLookup l = ftCoreTextureLookup(coreTexture.width, coreTexture.height, h.tangent.x, h.tangent.y);
+  h.tangent = T;
+  coreTextureShadingFrame(l, coreLerp0(l), T, side, vp, h);
+}
+#endif
 
 #ifndef FT_DEFERRED_SHADE
 void main() {
