@@ -82,7 +82,9 @@ uint32_t eq4RegularCount(const YarnParams& p, const ViewParams& v, const YarnSeg
   const double fiber = 2.0 * p.fiberRadius * pixelsPerUnit, ply = 2.0 * double(p.ellipseB) * p.rhoMax * pixelsPerUnit;
   const double lod = v.lodThresholdPx;
   const double lambda = lod <= fiber ? 1.0 : ply <= lod ? 0.0 : (fiber / lod) * ((ply - lod) / (ply - fiber));
-  return uint32_t(std::min(std::floor(lambda * lambda * p.regularFibers + 0.5), double(p.regularFibers)));
+  const double n = std::floor(lambda * lambda * p.regularFibers + 0.5);
+  if (!std::isfinite(n)) return UINT32_MAX;  // a non-finite segment or camera: counted as a mismatch, never cast
+  return uint32_t(std::min(n, double(p.regularFibers)));
 }
 
 // A decision the two sides may legitimately round differently: the CPU's
