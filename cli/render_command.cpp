@@ -205,6 +205,10 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
           t.totalMs(), t.shadowMapMs, t.generateMs, t.depthMs, o.deferred ? "visibility pass" : "shaded pass", t.shadeMs,
           o.deferred ? fmt::format(" + deferred shading {:.0f} ({} hits)", t.deferredMs, renderer.deferredEntries()) : "",
           t.totalCpuMs, t.depthCpuMs, o.deferred ? "visibility pass" : "shaded pass", t.shadeCpuMs);
+    if (warm.shadeFragmentInvocations > 0)
+      log << fmt::format("  {}: {} primitives out of the geometry stage, {} fragment-shader invocations\n",
+                         o.deferred ? "visibility pass" : "shaded pass", warm.shadePrimitives,
+                         warm.shadeFragmentInvocations);
   }
   return 0;
 }

@@ -546,6 +546,32 @@ bool FiberRenderer::cullsView(const FiberGpu& fibers) const {
   return !boxInView(fibers.view(), fibers.boundsMin(), fibers.boundsMax(), 2.0f);
 }
 
+// The fibers drawn with `prog`; with `timings`, counting the geometry
+// stage's primitives and the fragment-shader invocations where the driver
+// has pipeline statistics (GL 4.6 or ARB_pipeline_statistics_query).
+void FiberRenderer::drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, FrameTimings* timings) {
+  const bool count =
+      timings && (epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query"));
+  if (!count) {
+    fibers.draw(path, prog);
+    return;
+  }
+  // glGenQueries: Mesa 22.3's glCreateQueries refuses these targets.
+  GLuint ids[2] = {};
+  glGenQueries(2, ids);
+  Query primitives(ids[0]), fragments(ids[1]);
+  glBeginQuery(GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB, primitives.id());
+  glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, fragments.id());
+  fibers.draw(path, prog);
+  glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
+  glEndQuery(GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB);
+  GLuint64 n = 0;
+  glGetQueryObjectui64v(primitives.id(), GL_QUERY_RESULT, &n);
+  timings->shadePrimitives = n;
+  glGetQueryObjectui64v(fragments.id(), GL_QUERY_RESULT, &n);
+  timings->shadeFragmentInvocations = n;
+}
+
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height, FrameTimings* timings) {
   if (!shadingUbo_) throw std::logic_error("FiberRenderer: setShading() before a shaded frame");
   auto t = std::chrono::steady_clock::now();
@@ -599,7 +625,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
     if (timings) cpu = processCpuMs();
   } else {
     setUniform(prog, "shaded", 1u);
-    fibers.draw(path, prog);
+    drawCounted(fibers, path, prog, timings);
   }
   if ((inputs_.params.flags.w & FT_APPEARANCE_FLYAWAYS) != 0u) drawFlyaways(fibers);  // the third pass
   shadedTarget_->finish();
@@ -628,7 +654,7 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glClearNamedFramebufferfv(dt.fbo.id(), GL_COLOR, k, zero);
   const GLuint vis = program(fibers, path, StripPass::Visibility);
   setUniform(vis, "shaded", 1u);
-  fibers.draw(path, vis);
+  drawCounted(fibers, path, vis, timings);
   if (timings) {
     glFinish();
     const auto now = std::chrono::steady_clock::now();

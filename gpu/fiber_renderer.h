@@ -51,6 +51,11 @@ struct FrameTimings {
   // the shaded (visibility) pass and the whole frame: the work, less
   // sensitive than wall time to other jobs on a shared machine.
   double depthCpuMs = 0, shadeCpuMs = 0, totalCpuMs = 0;
+  // The visibility (or shaded) pass's pipeline statistics: lines out of the
+  // geometry stage and fragment-shader invocations (llvmpipe counts one per
+  // pixel of every 4 x 4 block a primitive touches, covered or not: the
+  // work its fragment stage does). 0 where the driver has no such query.
+  uint64_t shadePrimitives = 0, shadeFragmentInvocations = 0;
   double totalMs() const { return shadowMapMs + generateMs + depthMs + shadeMs + deferredMs; }
 };
 
@@ -145,6 +150,7 @@ class FiberRenderer {
                             const RenderStyle& style = {});
 
  private:
+  void drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, FrameTimings* timings);
   // Built on first use per path and pass (common/occlusion_cull.h).
   // ShadedDualScattering: the shaded pass with FT_FRAME_DUAL_SCATTERING, so
   // that frames without it do not pay for it (llvmpipe runs every branch).
