@@ -96,7 +96,7 @@ layout(std430, binding = FT_SSBO_FRAME_SRBF_TABLE) readonly buffer FrameSrbfTabl
 #endif
 #ifndef FT_DEFERRED_SHADE
 layout(location = 2) flat in uint stripType;
-layout(location = 3) in vec3 stripWorld;
+layout(location = 3) in vec3 stripOffset;  // the rectangle point less lineP0 (fiber_strip.geom.glsl says why)
 layout(location = 5) flat in vec3 lineP0;
 layout(location = 6) flat in vec3 lineP1;
 layout(location = 7) flat in vec3 lineT0;
@@ -110,6 +110,10 @@ layout(location = 14) flat in vec3 lineYarnB0;
 layout(location = 15) flat in vec3 lineYarnB1;
 layout(location = 16) flat in uint lineCurve;
 layout(location = 17) flat in float lineNearestDepth;
+// The rectangle point on this fragment's eye ray (pixel centre), and on the
+// eye ray through multisample position i.
+#define stripWorld (lineP0 + stripOffset)
+#define stripWorldAtSample(i) (lineP0 + interpolateAtSample(stripOffset, (i)))
 // Occlusion culling (common/occlusion_cull.h): level 0 of the occluders' depth pyramid.
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std430, binding = FT_SSBO_OCCLUSION) readonly buffer OcclusionTexels { float occlusionTexels[]; };
@@ -689,7 +693,7 @@ void main() {
   int mask = deepInside ? (1 << gl_NumSamples) - 1 : 0;
   int firstCovered = -1;
   for (int i = 0; i < gl_NumSamples && !deepInside; ++i) {
-    if (!capsuleCovers(interpolateAtSample(stripWorld, i))) continue;
+    if (!capsuleCovers(stripWorldAtSample(i))) continue;
     mask |= 1 << i;
     if (firstCovered < 0) firstCovered = i;
   }
@@ -697,7 +701,7 @@ void main() {
   // sample when the centre misses.
   FiberHit h;
   bool shadeHit = (centreCovered || firstCovered >= 0) &&
-                  castCapsule(centreCovered ? stripWorld : interpolateAtSample(stripWorld, max(firstCovered, 0)), h);
+                  castCapsule(centreCovered ? stripWorld : stripWorldAtSample(max(firstCovered, 0)), h);
   mask &= gl_SampleMaskIn[0];
   if (mask == 0 || !shadeHit) discard;
   if (stripType == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u && shaded != 0u &&
