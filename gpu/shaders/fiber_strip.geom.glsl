@@ -189,7 +189,7 @@ void main() {
   // visibility pass took 7-12 % less CPU; long or wide rectangles stay (the
   // triangle's extra area costs more there). The casts and coverage tests are
   // the same; only the rounding of the interpolated ray origin differs
-  // (docs/shaded-frame.md, "One triangle for a short line").
+  // (docs/shaded-frame.md, "One triangle for a short, thin line").
   int vertices = 4;
   vec3 start = q[0] - ext[0] * along;
   float rectLength = dot(q[1] - q[0], along) + ext[0] + ext[1];
