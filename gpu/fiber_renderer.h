@@ -51,8 +51,9 @@ struct FrameTimings {
   // the shaded (visibility) pass and the whole frame: the work, less
   // sensitive than wall time to other jobs on a shared machine.
   double depthCpuMs = 0, shadeCpuMs = 0, totalCpuMs = 0;
-  // The visibility (or shaded) pass's pipeline statistics: lines out of the
-  // geometry stage and fragment-shader invocations (llvmpipe counts one per
+  // The visibility (or shaded) pass's pipeline statistics: triangles out of
+  // the geometry stage (two per line, one for a short, thin line) and
+  // fragment-shader invocations (llvmpipe counts one per
   // pixel of every 4 x 4 block a primitive touches, covered or not: the
   // work its fragment stage does). 0 where the driver has no such query.
   uint64_t shadePrimitives = 0, shadeFragmentInvocations = 0;
