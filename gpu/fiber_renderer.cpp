@@ -572,6 +572,25 @@ void FiberRenderer::drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, F
   timings->shadeFragmentInvocations = n;
 }
 
+namespace {
+
+// The strip-ray probe's inputs (FT_STRIP_RAY_PROBE, fiber_strip.frag.glsl),
+// where the program has them: the bound multisample target's sample
+// positions, as GL reports them, and the viewport.
+void setRayProbeUniforms(GLuint prog, int width, int height) {
+  if (glGetUniformLocation(prog, "probeViewport") < 0) return;
+  GLint samples = 0;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  for (GLint i = 0; i < std::min(samples, 4); ++i) {
+    GLfloat p[2] = {0.5f, 0.5f};
+    glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(i), p);
+    setUniform(prog, fmt::format("probeSamplePositions[{}]", i).c_str(), glm::vec2(p[0], p[1]));
+  }
+  setUniform(prog, "probeViewport", glm::vec2(float(width), float(height)));
+}
+
+}  // namespace
+
 void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height, FrameTimings* timings) {
   if (!shadingUbo_) throw std::logic_error("FiberRenderer: setShading() before a shaded frame");
   auto t = std::chrono::steady_clock::now();
@@ -625,6 +644,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
     if (timings) cpu = processCpuMs();
   } else {
     setUniform(prog, "shaded", 1u);
+    setRayProbeUniforms(prog, width, height);
     drawCounted(fibers, path, prog, timings);
   }
   if ((inputs_.params.flags.w & FT_APPEARANCE_FLYAWAYS) != 0u) drawFlyaways(fibers);  // the third pass

@@ -112,8 +112,28 @@ layout(location = 16) flat in uint lineCurve;
 layout(location = 17) flat in float lineNearestDepth;
 // The rectangle point on this fragment's eye ray (pixel centre), and on the
 // eye ray through multisample position i.
+#ifdef FT_FAULT_STRIP_WORLD_ABSOLUTE
+// Planted fault: the geometry stage passes the world position itself, which
+// the rasteriser's attribute planes round to a fraction of a pixel.
+#define stripWorld stripOffset
+#define stripWorldAtSample(i) interpolateAtSample(stripOffset, (i))
+#else
 #define stripWorld (lineP0 + stripOffset)
 #define stripWorldAtSample(i) (lineP0 + interpolateAtSample(stripOffset, (i)))
+#endif
+#ifdef FT_STRIP_RAY_PROBE
+// Debug output of the forward pass (validation/strip_impostor_cases.cpp): how far
+// the points through which the fragment casts its rays land from where they
+// belong, in pixels, by projecting them back to the window. Set by
+// FiberRenderer from GL: the multisample positions in the pixel (y up) and
+// the viewport size.
+uniform vec2 probeSamplePositions[4];
+uniform vec2 probeViewport;
+vec2 probeWindow(vec3 p) {
+  vec4 c = view.viewProj * vec4(p, 1.0);
+  return (0.5 * c.xy / c.w + 0.5) * probeViewport;
+}
+#endif
 // Occlusion culling (common/occlusion_cull.h): level 0 of the occluders' depth pyramid.
 layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyramid pyramid; };
 layout(std430, binding = FT_SSBO_OCCLUSION) readonly buffer OcclusionTexels { float occlusionTexels[]; };
@@ -715,6 +735,12 @@ void main() {
 #ifdef FT_VISIBILITY_PASS
   // Deferred: the hit, shaded later by fiber_shade.comp.glsl.
   ftPackHit(h, stripType, hitRecord);
+#elif defined(FT_STRIP_RAY_PROBE)
+  // Red: the worst multisample ray's point; green: the pixel centre's.
+  float worst = 0.0;
+  for (int i = 0; i < min(gl_NumSamples, 4); ++i)
+    worst = max(worst, distance(probeWindow(stripWorldAtSample(i)), floor(gl_FragCoord.xy) + probeSamplePositions[i]));
+  color = vec4(worst, distance(probeWindow(stripWorld), gl_FragCoord.xy), 0.0, 1.0);
 #else
   if (shaded != 0u) {
     color = vec4(shadeFiberOfType(h, stripType), 1.0);

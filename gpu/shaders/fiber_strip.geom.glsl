@@ -35,11 +35,11 @@ layout(location = 5) in vec3 yarnNormal[];
 layout(location = 6) in vec3 yarnBinormal[];
 layout(location = 2) flat out uint stripType;
 // A point of the fragment's eye ray: the world position on the rectangle,
-// less the line's first end. Interpolated as world positions (≈ 3 units,
+// less the line's first end. Interpolated as world positions (units from the origin,
 // rectangles ≈ 1e-3 wide) the attribute planes lost so much to float
 // rounding that the rays through the multisample positions missed them by a
 // median 0.06 px and up to 0.33 px at the glove close-up (measured by
-// projecting them back); as offsets they are within 0.01 px.
+// projecting them back, shading/strip-rays/*); as offsets within 0.01 px.
 layout(location = 3) out vec3 stripOffset;
 // The line, for the fragment stage's ray cast: end points, their unit
 // tangents (fiber_strip_tangent.glsl) and half-widths.
@@ -193,9 +193,21 @@ void main() {
   int vertices = 4;
   vec3 start = q[0] - ext[0] * along;
   float rectLength = dot(q[1] - q[0], along) + ext[0] + ext[1];
+#ifdef FT_STRIP_RECTANGLES
+  // Every line as its rectangle (validation/strip_impostor_cases.cpp).
+  if (false) {
+#else
   if (2.0 * R * view.cameraPos.w < 8.0 * planeDepth && rectLength < 3.0 * R) {
+#endif
+#ifdef FT_FAULT_STRIP_TRIANGLE_NARROW
+    // Planted fault: a base of 2R, the rectangle's own width; the rectangle's
+    // sides stick out of the triangle's.
+    corners[0] = start - R * across;
+    corners[1] = start + R * across;
+#else
     corners[0] = start - 2.0 * R * across;
     corners[1] = start + 2.0 * R * across;
+#endif
     corners[2] = start + 2.0 * rectLength * along;
     for (int i = 0; i < 3; ++i) clip[i] = view.viewProj * vec4(corners[i], 1.0);
     vertices = 3;
@@ -203,7 +215,11 @@ void main() {
 #endif
   for (int i = 0; i < vertices; ++i) {
     stripType = i < 2 ? type0 : type1;
+#ifdef FT_FAULT_STRIP_WORLD_ABSOLUTE
+    stripOffset = corners[i];
+#else
     stripOffset = corners[i] - p0;
+#endif
     lineP0 = p0;
     lineP1 = p1;
     lineT0 = t0;
