@@ -31,4 +31,4 @@ ASAN_OPTIONS=detect_leaks=0 ctest --preset asan -L "input|asan" -j "$jobs"
 echo "== libFuzzer: bounded runs of the BCC reader and the stitch-mesh reader + knit setup"
 cmake --preset fuzz
 cmake --build --preset fuzz --target bcc_fuzzer stitch_obj_fuzzer
-ctest --preset fuzz -L fuzz
+ctest --preset fuzz -L fuzz -j "$jobs"
