@@ -37,6 +37,7 @@
 #include "scene/default_scene.h"
 #include "scene/lighting.h"
 #include "scene/yarn_fibers.h"
+#include "scene/yarn_model.h"
 #include "scene/yarn_preset.h"
 #include "scene/yarn_radius.h"
 #include "validation/harness.h"
@@ -435,12 +436,8 @@ CaseResult runKept(ValidationContext& ctx, bool tessellation) {
   const size_t cameraDiff = differing(moved, movedFresh, nonFinite);
   // A model change: every control point scaled 1.1× about the bounds' centre.
   YarnBuffers scaled = ctx.buffers();
-  glm::vec3 lo(3e38f), hi(-3e38f);
-  for (const ControlPoint& p : scaled.points) {
-    lo = glm::min(lo, glm::vec3(p.positionLength));
-    hi = glm::max(hi, glm::vec3(p.positionLength));
-  }
-  const glm::vec3 centre = 0.5f * (lo + hi);
+  const Bounds bounds = modelBounds(ctx.model());
+  const glm::vec3 centre = 0.5f * (bounds.lo + bounds.hi);
   for (ControlPoint& p : scaled.points)
     p.positionLength = glm::vec4(centre + 1.1f * (glm::vec3(p.positionLength) - centre), p.positionLength.w);
   gpu.setModel(scaled, setup.table);

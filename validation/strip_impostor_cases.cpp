@@ -41,6 +41,7 @@
 #include "gpu/shading_inputs_gpu.h"
 #include "scene/camera.h"
 #include "scene/lighting.h"
+#include "scene/yarn_model.h"
 #include "validation/harness.h"
 #include "validation/harness_frame.h"
 
@@ -80,16 +81,12 @@ CaseResult runStripRays(ValidationContext& ctx, const std::string& view, bool te
   const FittedFibers& fitted = ctx.fittedFibers(preset);
 
   // The model moved out from the origin, and the camera with it.
-  YarnBuffers moved = ctx.buffers();
-  glm::vec3 lo(3e38f), hi(-3e38f);
-  for (const ControlPoint& p : moved.points) {
-    lo = glm::min(lo, glm::vec3(p.positionLength));
-    hi = glm::max(hi, glm::vec3(p.positionLength));
-  }
-  const glm::vec3 centre = 0.5f * (lo + hi);
-  const float radius = 0.5f * glm::length(hi - lo);
+  const Bounds bounds = modelBounds(ctx.model());
+  const glm::vec3 centre = 0.5f * (bounds.lo + bounds.hi);
+  const float radius = 0.5f * glm::length(bounds.hi - bounds.lo);
   const glm::vec3 offset = kOffsetRadii * radius * glm::normalize(glm::vec3(1.0f));
   const glm::vec3 target = centre + offset;
+  YarnBuffers moved = ctx.buffers();
   for (ControlPoint& p : moved.points)
     p.positionLength = glm::vec4(glm::vec3(p.positionLength) + offset, p.positionLength.w);
   Camera camera = namedViewCamera(view, ctx.model(), setup.params, glm::vec3(0.3f, 0.5f, 1.0f), kWidth, kHeight);
