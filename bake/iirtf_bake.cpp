@@ -21,6 +21,7 @@
 #include <string>
 
 #include "bake/bake.h"
+#include "bake/little_endian.h"
 #include "reference/exemplar.h"
 #include "reference/prt_multiple_scattering.h"
 #include "scene/fabric.h"
@@ -28,24 +29,6 @@
 
 namespace ft {
 namespace {
-
-static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559);
-
-void putU32(std::vector<std::byte>& out, uint32_t u) {
-  for (int b = 0; b < 4; ++b) out.push_back(std::byte((u >> (8 * b)) & 0xffu));
-}
-void putU64(std::vector<std::byte>& out, uint64_t u) {
-  putU32(out, uint32_t(u & 0xffffffffu));
-  putU32(out, uint32_t(u >> 32));
-}
-void putF32(std::vector<std::byte>& out, float f) { putU32(out, std::bit_cast<uint32_t>(f)); }
-uint32_t getU32(const std::byte* in) {
-  uint32_t u = 0;
-  for (int b = 0; b < 4; ++b) u |= uint32_t(in[b]) << (8 * b);
-  return u;
-}
-uint64_t getU64(const std::byte* in) { return uint64_t(getU32(in)) | (uint64_t(getU32(in + 4)) << 32); }
-float getF32(const std::byte* in) { return std::bit_cast<float>(getU32(in)); }
 
 class IirtfBake final : public Bake {
  public:

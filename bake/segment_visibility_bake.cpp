@@ -22,25 +22,13 @@
 #include <string>
 
 #include "bake/bake.h"
+#include "bake/little_endian.h"
 #include "reference/exemplar.h"
 #include "reference/segment_visibility.h"
 #include "scene/input_error.h"
 
 namespace ft {
 namespace {
-
-static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559);
-
-void putU32(std::vector<std::byte>& out, uint32_t u) {
-  for (int b = 0; b < 4; ++b) out.push_back(std::byte((u >> (8 * b)) & 0xffu));
-}
-void putF32(std::vector<std::byte>& out, float f) { putU32(out, std::bit_cast<uint32_t>(f)); }
-uint32_t getU32(const std::byte* in) {
-  uint32_t u = 0;
-  for (int b = 0; b < 4; ++b) u |= uint32_t(in[b]) << (8 * b);
-  return u;
-}
-float getF32(const std::byte* in) { return std::bit_cast<float>(getU32(in)); }
 
 class SegmentVisibilityBake final : public Bake {
  public:

@@ -8,24 +8,11 @@
 
 #include "common/constants.h"
 #include "gpu/compute_dispatch.h"
+#include "gpu/fabric_request_buffer.h"
 #include "gpu/gl_check.h"
 #include "gpu/shader_library.h"
 
 namespace ft {
-namespace {
-
-
-
-// The input block of both programs: the fabric, then vec4 requests.
-Buffer inputBuffer(const FabricParams& fabric, const std::vector<glm::vec4>& requests) {
-  std::vector<unsigned char> bytes(sizeof(FabricParams) + requests.size() * sizeof(glm::vec4));
-  std::memcpy(bytes.data(), &fabric, sizeof(FabricParams));
-  if (!requests.empty())
-    std::memcpy(bytes.data() + sizeof(FabricParams), requests.data(), requests.size() * sizeof(glm::vec4));
-  return Buffer::create(bytes.size(), bytes.data());
-}
-
-}  // namespace
 
 BcsdfGpu::BcsdfGpu(const GlInfo& gl, const std::vector<std::string>& defines)
     : maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {
@@ -49,7 +36,7 @@ std::vector<glm::vec3> BcsdfGpu::evaluate(const FabricParams& fabric, const std:
                                           size_t count, Kind kind, const BcsdfEvalMode& mode) {
   if (mode.model != FT_SHADING_KHUNGURN && mode.model != FT_SHADING_SIMPLE)
     throw std::invalid_argument(fmt::format("BcsdfGpu: unknown model {}", mode.model));
-  const Buffer input = inputBuffer(fabric, requests);
+  const Buffer input = fabricRequestBuffer(fabric, requests);
   output_ = Buffer::create(std::max<size_t>(count, 1) * sizeof(glm::vec4));
   const GLuint p = evalProgram_.id();
   setUniform(p, "requestCount", static_cast<uint32_t>(count));
@@ -101,7 +88,7 @@ std::vector<FiberAngles> BcsdfGpu::fiberAngles(std::span<const glm::vec3> tangen
 
 std::vector<glm::vec3> BcsdfGpu::bakeAmbientTable(const FabricParams& fabric, int texels, int steps) {
   if (texels < 2 || steps < 1) throw std::invalid_argument(fmt::format("BcsdfGpu: {} texels, {} steps", texels, steps));
-  const Buffer input = inputBuffer(fabric, {});
+  const Buffer input = fabricRequestBuffer(fabric, {});
   output_ = Buffer::create(size_t(texels) * sizeof(glm::vec4));
   const GLuint p = bakeProgram_.id();
   setUniform(p, "texels", static_cast<uint32_t>(texels));
@@ -128,7 +115,7 @@ std::vector<glm::vec2> BcsdfGpu::runLobeNorm(const FabricParams& fabric, std::sp
   if (texels < 2) throw std::invalid_argument(fmt::format("BcsdfGpu: a lobe-normalisation table of {} texels", texels));
   std::vector<glm::vec4> requests(thetas.size());
   for (size_t i = 0; i < thetas.size(); ++i) requests[i] = glm::vec4(thetas[i], 0.0f, 0.0f, 0.0f);
-  const Buffer input = inputBuffer(fabric, requests);
+  const Buffer input = fabricRequestBuffer(fabric, requests);
   const std::vector<glm::vec2> tableOrDummy = table.empty() ? std::vector<glm::vec2>(2) : std::vector(table.begin(), table.end());
   const Buffer tableBuffer = Buffer::fromVector(tableOrDummy);
   const size_t count = lookup ? thetas.size() : size_t(texels);

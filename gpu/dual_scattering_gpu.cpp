@@ -7,21 +7,10 @@
 #include <stdexcept>
 
 #include "gpu/compute_dispatch.h"
+#include "gpu/fabric_request_buffer.h"
 #include "gpu/shader_library.h"
 
 namespace ft {
-namespace {
-
-// The input block: the fabric, then vec4 requests.
-Buffer inputBuffer(const FabricParams& fabric, const std::vector<glm::vec4>& requests) {
-  std::vector<unsigned char> bytes(sizeof(FabricParams) + requests.size() * sizeof(glm::vec4));
-  std::memcpy(bytes.data(), &fabric, sizeof(FabricParams));
-  if (!requests.empty())
-    std::memcpy(bytes.data() + sizeof(FabricParams), requests.data(), requests.size() * sizeof(glm::vec4));
-  return Buffer::create(bytes.size(), bytes.data());
-}
-
-}  // namespace
 
 DualScatteringGpu::DualScatteringGpu(const GlInfo& gl, const std::vector<std::string>& defines)
     : maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {
@@ -32,7 +21,7 @@ DualScatteringGpu::DualScatteringGpu(const GlInfo& gl, const std::vector<std::st
 DsTableGpu DualScatteringGpu::bakeTable(const FabricParams& fabric, int texels, int steps) {
   if (texels < 2 || steps < 1 || steps >= 65536)
     throw std::invalid_argument(fmt::format("DualScatteringGpu: {} texels, {} steps", texels, steps));
-  const Buffer input = inputBuffer(fabric, {});
+  const Buffer input = fabricRequestBuffer(fabric, {});
   const size_t per = FT_DS_ROWS + 4;
   const Buffer output = Buffer::create(size_t(texels) * per * sizeof(glm::vec4));
   const GLuint p = bakeProgram_.id();
@@ -64,7 +53,7 @@ std::vector<DsFrame> DualScatteringGpu::evaluate(const FabricParams& fabric, std
     packed[2 * i] = glm::vec4(q.thetaI, q.thetaO, q.phi, 0.0f);
     packed[2 * i + 1] = glm::vec4(q.visibility, q.fibers, 0.0f, 0.0f);
   }
-  const Buffer input = inputBuffer(fabric, packed);
+  const Buffer input = fabricRequestBuffer(fabric, packed);
   const Buffer table = Buffer::fromVector(std::vector<glm::vec4>(rows.begin(), rows.end()));
   const Buffer output = Buffer::create(std::max<size_t>(requests.size(), 1) * 6 * sizeof(glm::vec4));
   const GLuint p = evalProgram_.id();

@@ -6,18 +6,11 @@
 #include <stdexcept>
 
 #include "common/constants.h"
+#include "gpu/compute_dispatch.h"
 #include "gpu/gl_check.h"
 #include "gpu/shader_library.h"
 
 namespace ft {
-namespace {
-
-void setUniform(GLuint program, const char* name, uint32_t value) {
-  const GLint loc = glGetUniformLocation(program, name);
-  if (loc >= 0) glProgramUniform1ui(program, loc, value);
-}
-
-}  // namespace
 
 KnitGpu::KnitGpu(const GlInfo& gl, std::vector<std::string> defines)
     : defines_(std::move(defines)), maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {

@@ -14,8 +14,6 @@ namespace {
 
 using knit64::KnitProblem;
 
-[[noreturn]] void fail(const std::string& message) { throw InputError(message); }
-
 constexpr uint32_t kNone = 0xffffffffu;
 
 using Edge = std::pair<uint32_t, uint32_t>;  // directed, counter-clockwise in its face
@@ -220,7 +218,7 @@ bool finiteIn(double x, double lo, double hi) { return std::isfinite(x) && x >= 
 
 void validateKnitOptions(const KnitOptions& o) {
   auto check = [](bool ok, const char* name, double v, const char* range) {
-    if (!ok) fail(fmt::format("{}: {} is out of range ({})", name, v, range));
+    if (!ok) throw InputError(fmt::format("{}: {} is out of range ({})", name, v, range));
   };
   check(std::isfinite(o.yarnRadius) && o.yarnRadius > 0, "--yarn-radius", o.yarnRadius, "> 0");
   check(finiteIn(o.beta, 0.0, 1.0), "--beta", o.beta, "0 to 1");
@@ -237,8 +235,8 @@ KnitSetup buildKnitSetup(const StitchMesh& restIn, const StitchMesh& deformedIn,
   for (uint32_t f = 0; f < restIn.faces.size(); ++f) {
     const StitchFace& face = restIn.faces[f];
     if (!stitchTypeAcceptsCount(face.type, face.count))
-      fail(fmt::format("{}: face {}: a {} stitch cannot have {} vertices", restIn.name, f, stitchTypeName(face.type),
-                       face.count));
+      throw InputError(fmt::format("{}: face {}: a {} stitch cannot have {} vertices", restIn.name, f,
+                                   stitchTypeName(face.type), face.count));
   }
   const uint32_t faces = static_cast<uint32_t>(restIn.faces.size());
 

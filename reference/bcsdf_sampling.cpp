@@ -6,11 +6,12 @@
 
 #include "common/rng.h"
 
+#include "reference/numbers.h"
+
 namespace ft {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kHalfPi = 0.5 * std::numbers::pi;
 
 double gaussian(double x, double beta) {

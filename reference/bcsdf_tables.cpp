@@ -45,23 +45,13 @@ std::vector<glm::dvec3> AmbientTableCpu::total() const {
 
 namespace {
 
-// The Gauss–Kronrod 7/15 rule: reference/quadrature.h.
-constexpr const double* kXk = kGk15Nodes;
-constexpr const double* kWk = kGk15KronrodWeights;
-constexpr const double* kWg = kGk15GaussWeights;
+// The Gauss–Kronrod 7/15 rule (kXk, kWk, kWg) and where to stop bisecting: reference/quadrature.h.
 
 // Requested relative accuracy of each texel's integral.
 constexpr double kRelativeTolerance = 1e-9;
-// The integrand is a float function of a float θ_i: rounding θ_i ≈ 1.5 to
-// float moves a 1° lobe by up to 6e-8 rad, i.e. up to ~3e-6 of its value on
-// the flanks. A piece is resolved when its Gauss–Kronrod difference is below
-// this fraction of ∫|f|, or when it is narrower than 1/16 of the narrowest
-// lobe: G7 and K15 then integrate the smooth function exactly to double
-// precision (K15 is exact for degree 22; the Gaussian's Taylor series over
-// ±β/32 has converged long before), so any difference left is the rounding of
-// the integrand, which bisecting further would only integrate.
-constexpr double kIntegrandRounding = 8.0 * FLT_EPSILON;
-constexpr double kMinPieceLobes = 1.0 / 16.0;
+// A piece is resolved when its Gauss–Kronrod difference is below
+// kIntegrandRounding of ∫|f|, or when it is narrower than kMinPieceLobes of
+// the narrowest lobe (reference/quadrature.h says why).
 constexpr size_t kMaxPieces = 4000;  // per texel, a safeguard
 using Lobe = LobeValues;
 

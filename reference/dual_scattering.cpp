@@ -15,19 +15,13 @@
 namespace ft {
 namespace {
 
-// The Gauss–Kronrod 7/15 rule: reference/quadrature.h.
-constexpr const double* kXk = kGk15Nodes;
-constexpr const double* kWk = kGk15KronrodWeights;
-constexpr const double* kWg = kGk15GaussWeights;
-
+// The Gauss–Kronrod 7/15 rule (kXk, kWk, kWg) and where to stop bisecting: reference/quadrature.h.
 // A piece is resolved when |K15 − G7| is below 1e-10 (absolute: the lobe
 // integrals are fractions of an albedo ≤ 1, so this is ≤ 1e-9 of any ā above
 // 0.1) or below the float rounding of the integrand (8 ε of ∫|f|), or when it
 // is narrower than 1/16 of the narrowest lobe (K15 is then exact for the
 // smooth Gaussian to double precision; what is left is rounding).
 constexpr double kPieceTolerance = 1e-10;
-constexpr double kIntegrandRounding = 8.0 * FLT_EPSILON;
-constexpr double kMinPieceLobes = 1.0 / 16.0;
 constexpr int kPhiNodes = 32;
 
 using Values = std::array<double, 12>;  // a_{f,R}, a_{f,TT}, a_{b,R}, a_{b,TT} × rgb

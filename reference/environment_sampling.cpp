@@ -4,9 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "reference/numbers.h"
+
 namespace ft {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 // The last index i with cdf[i] <= u (cdf ascending, cdf.front() = 0, u in [0, cdf.back())).
 int findInterval(const double* cdf, int n, double u) {
   const double* it = std::upper_bound(cdf, cdf + n + 1, u);

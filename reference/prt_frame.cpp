@@ -12,6 +12,7 @@
 #include "common/prt_frame.h"
 #include "image/flip.h"
 #include "reference/bcsdf_sampling.h"
+#include "reference/numbers.h"
 #include "reference/prt_single_scattering.h"
 #include "scene/fabric.h"
 #include "scene/input_error.h"
@@ -21,7 +22,6 @@ namespace ft {
 namespace {
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-constexpr double kPi = 3.14159265358979323846;
 constexpr uint32_t kNoFiber = 0xFFFFFFFFu;
 bool finiteUnit(glm::vec3 v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::abs(glm::length(v) - 1.0f) < 1e-3f;

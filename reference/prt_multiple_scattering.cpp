@@ -13,12 +13,12 @@
 
 #include "common/fiber_shading.h"
 #include "reference/bcsdf_sampling.h"
+#include "reference/numbers.h"
 #include "scene/input_error.h"
 
 namespace ft {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kJ = FT_SH_COEFFS;
 }  // namespace
 

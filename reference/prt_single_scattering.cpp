@@ -8,10 +8,11 @@
 
 #include "scene/input_error.h"
 
+#include "reference/numbers.h"
+
 namespace ft {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // 8-point Gauss–Legendre on [−1, 1].
 constexpr double kGl8X[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};

@@ -33,14 +33,13 @@
 #include "reference/ambient_occlusion.h"
 #include "scene/yarn_density.h"
 #include "validation/ambient_occlusion_oracle.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-constexpr double kPi = 3.14159265358979323846;
 
 // ---- Tolerances, each with its reason ------------------------------------------
 

@@ -1,5 +1,6 @@
 // ambient_occlusion_oracle.cpp — see ambient_occlusion_oracle.h. Includes nothing from common/.
 #include "validation/ambient_occlusion_oracle.h"
+#include "validation/case_support.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace ft::oracle {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 double uniformDiskAo(double kappa, double rho0, double a, double x, double y, int nodes) {

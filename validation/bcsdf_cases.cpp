@@ -23,15 +23,14 @@
 #include "reference/bcsdf_tables.h"
 #include "scene/fabric.h"
 #include "validation/bcsdf_oracle.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 // ---- Tolerances, each with its reason ------------------------------------------
@@ -94,7 +93,7 @@ constexpr double kLookupTolerance = 1e-3;
 
 // ---- Helpers ---------------------------------------------------------------------
 
-CaseResult newResult(const std::string& name) {
+CaseResult newBcsdfResult(const std::string& name) {
   CaseResult r;
   r.name = name;
   r.group = "bcsdf";
@@ -215,7 +214,7 @@ constexpr double kDirectionsMaxTheta = 88.0 * kDeg;
 // ---- bcsdf/grid/<fabric> ------------------------------------------------------------
 
 CaseResult runGridCase(ValidationContext& ctx, const FabricPreset& preset, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   const FabricParams p = preset.params();
   const std::vector<FiberAngles> grid = angleGrid(-0.5 * kPi, 0.5 * kPi);
   const std::vector<FiberAngles> dgrid = angleGrid(-kDirectionsMaxTheta, kDirectionsMaxTheta);
@@ -258,7 +257,7 @@ CaseResult runGridCase(ValidationContext& ctx, const FabricPreset& preset, const
 
 // The simple model (eq. 5) at k_s = 1, β = 5° (notes A4 default) and 1°.
 CaseResult runSimpleGridCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   const std::vector<FiberAngles> grid = angleGrid(-0.5 * kPi, 0.5 * kPi);
   const std::vector<FiberAngles> dgrid = angleGrid(-kDirectionsMaxTheta, kDirectionsMaxTheta);
   const Directions d = directionsOf(dgrid);
@@ -300,7 +299,7 @@ CaseResult runSimpleGridCase(ValidationContext& ctx, const std::string& name) {
 // ---- bcsdf/ambient/<fabric> -----------------------------------------------------------
 
 CaseResult runAmbientCase(ValidationContext& ctx, const FabricPreset& preset, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   const FabricParams p = preset.params();
   auto t0 = Clock::now();
   const AmbientTableCpu cpu = bakeAmbientTableCpuParts(p);
@@ -343,7 +342,7 @@ CaseResult runAmbientCase(ValidationContext& ctx, const FabricPreset& preset, co
 // over 6β is within 1.3e-4 of Z for every β (docs/shading.md).
 
 CaseResult runLobeNormCase(ValidationContext& ctx, const FabricPreset& preset, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   const FabricParams p = preset.params();
   const oracle::Fabric fabric = oracleFabric(preset);
   auto t0 = Clock::now();
@@ -408,7 +407,7 @@ CaseResult runLobeNormCase(ValidationContext& ctx, const FabricPreset& preset, c
 // 2π-periodic in φ: spectrally accurate; 33 nodes resolve the von Mises of
 // κ ≤ 8.4 to ~1e-16).
 CaseResult runAlbedoCase(ValidationContext& ctx, const FabricPreset& preset, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   const FabricParams p = preset.params();
   const oracle::Fabric fabric = oracleFabric(preset);
   const double thetas[] = {-1.56, -1.45, -1.2, -0.8, -0.4, 0.0, 0.25, 0.6, 1.0, 1.3, 1.5, 1.56};
@@ -498,7 +497,7 @@ CaseResult runAlbedoCase(ValidationContext& ctx, const FabricPreset& preset, con
 const double kLobeThetas[] = {-1.2, -0.5, 0.0, 0.3, 0.9, 1.4};
 
 CaseResult runLobesCase(ValidationContext& ctx, const FabricPreset& preset, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   const FabricParams p = preset.params();
   const oracle::Fabric fabric = oracleFabric(preset);
   BcsdfGpu& gpu = ctx.gpu<BcsdfGpu>();
@@ -593,7 +592,7 @@ CaseResult runLobesCase(ValidationContext& ctx, const FabricPreset& preset, cons
 
 // Eq. 5: peak on the specular cone, symmetric in (i, o), and the formula as written.
 CaseResult runSimpleLobesCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   BcsdfGpu& gpu = ctx.gpu<BcsdfGpu>();
   const double ks = 0.8;
   double peakOffset = 0.0, asym = 0.0, formula = 0.0, peakTolerance = 1.0;
@@ -653,7 +652,7 @@ CaseResult runSimpleLobesCase(ValidationContext& ctx, const std::string& name) {
 // ---- bcsdf/ambient-lookup --------------------------------------------------------------------
 
 CaseResult runLookupCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = newResult(name);
+  CaseResult r = newBcsdfResult(name);
   std::mt19937 rng(64);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double worst = 0.0, worstCentre = 0.0;

@@ -1,5 +1,6 @@
 // bcsdf_oracle.cpp — see bcsdf_oracle.h. Includes nothing from common/.
 #include "validation/bcsdf_oracle.h"
+#include "validation/case_support.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,6 @@
 namespace ft::oracle {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 }  // namespace
 

@@ -20,6 +20,7 @@
 #include "reference/fiber_reference.h"
 #include "scene/camera.h"
 #include "gpu/fiber_renderer.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 #include "validation/vertex_compare.h"
 
@@ -28,7 +29,6 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // Chord error: the subdivision rule (common/lod.h) aims at
 // kDefaultChordErrorPx = 0.25 px from an upper bound of the curve's second

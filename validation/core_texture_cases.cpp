@@ -20,6 +20,7 @@
 #include "gpu/core_texture_gpu.h"
 #include "reference/core_texture.h"
 #include "scene/core_texture_input.h"
+#include "validation/case_support.h"
 #include "validation/core_texture_oracle.h"
 #include "validation/harness.h"
 
@@ -27,7 +28,6 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 constexpr double kRadToDeg = 57.29577951308232;
 const char* kPath = "core-texture";
 
@@ -36,7 +36,7 @@ const char* kPath = "core-texture";
 // C2 (notes A1): the two sides meet the same capsule chain; texels whose ray
 // grazes a tube within float rounding may flip, a few per thousand at most.
 constexpr double kCoverageTolerance = 0.005;
-const char* kCoverageWhy = "notes A1 C2: same capsule chain, only grazing texels may flip (0.5 %)";
+const char* kCoreCoverageWhy = "notes A1 C2: same capsule chain, only grazing texels may flip (0.5 %)";
 constexpr double kIouTolerance = 0.02;  // 1 − IoU ≤ 0.02, i.e. IoU ≥ 0.98
 const char* kIouWhy = "notes A1 C2: IoU ≥ 0.98 of the hit masks after a 1-texel erosion";
 // h = 0.5 + 0.5 x / R_core and the normal (hit − axis)/r_f: the two sides'
@@ -194,7 +194,7 @@ CaseResult runCross(ValidationContext& ctx, const YarnPreset& preset, const std:
   const double texels = double(w) * h;
   r.histogramMetric = "h.max_abs";  // per texel: the weighted offset
   r.metrics = {
-      Metric{"coverage.abs_diff", std::abs(covC - covG) / texels, kCoverageTolerance, "fraction of texels", kCoverageWhy},
+      Metric{"coverage.abs_diff", std::abs(covC - covG) / texels, kCoverageTolerance, "fraction of texels", kCoreCoverageWhy},
       Metric{"mask.one_minus_iou", eUni > 0 ? 1.0 - eInter / eUni : 1.0, kIouTolerance, "1 − IoU", kIouWhy},
       Metric{"h.max_abs", dh, kSurfaceOffsetTolerance, "fraction of r_f",
              "interior texels (both masks, 1-texel erosion): |Δh| n_x 2 R_core / r_f, the hit points' offset along "

@@ -34,13 +34,13 @@
 #include "common/core_texture.h"
 #include "reference/core_texture.h"
 #include "scene/core_texture_input.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kPi = 3.14159265358979323846;
 const double kPsiDegrees[] = {0.0, 30.0, 60.0, 90.0};
 
 // "Measurably lower for the alternatives": the best alternative's mean NCC

@@ -1,3 +1,4 @@
+#include "validation/case_support.h"
 #include "validation/core_texture_oracle.h"
 
 #include <algorithm>
@@ -6,7 +7,6 @@
 
 namespace ft::oracle {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 // Eq. 1–2 of 000 §2.2 in a circular ply: R(θ) = R_i (R_min + (R_max − R_min)

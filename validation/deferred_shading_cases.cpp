@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "validation/case_support.h"
 #include "validation/harness_frame.h"
 
 namespace ft {
@@ -28,7 +29,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kWidth = 320, kHeight = 240;
 // Not vacuous: the frame must cover pixels, and some pixel must hold more
 // than one distinct hit (an edge between fibers), where the compaction's
 // grouping of samples matters. Measured on the built-in scene at 320 × 240:
@@ -55,13 +55,13 @@ CaseResult runDeferred(ValidationContext& ctx, const std::string& view, bool tes
     appearance.dualScattering = true;
     appearance.softShadows = true;
   }
-  const FiberPath path = prepareHarnessFrame(ctx, view, tessellation, appearance, kWidth, kHeight);
+  const FiberPath path = prepareHarnessFrame(ctx, view, tessellation, appearance, kFrameWidth, kFrameHeight);
   FiberGpu& gpu = ctx.gpu<FiberGpu>();
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
   renderer.setDeferred(false);
-  const ImageRgbaF forward = renderer.render(gpu, path, kWidth, kHeight);
+  const ImageRgbaF forward = renderer.render(gpu, path, kFrameWidth, kFrameHeight);
   renderer.setDeferred(true);
-  const ImageRgbaF deferred = renderer.render(gpu, path, kWidth, kHeight);
+  const ImageRgbaF deferred = renderer.render(gpu, path, kFrameWidth, kFrameHeight);
   const double hits = double(renderer.deferredEntries());
   r.gpuMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   r.gpuTiming = "steady_clock: bakes + 2 frames with read-back";

@@ -21,6 +21,7 @@
 
 #include "gpu/ds_correction_gpu.h"
 #include "reference/ds_correction.h"
+#include "validation/case_support.h"
 #include "validation/ds_correction_oracle.h"
 #include "validation/harness.h"
 
@@ -28,8 +29,6 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-constexpr double kPi = 3.14159265358979323846;
 
 // ---- Tolerances, each with its reason ----------------------------------------------
 // The lookup interpolates logarithms (|log| ≲ 25 here: ξ up to 1e4, Ψ down

@@ -1,5 +1,6 @@
 // ds_correction_oracle.cpp — see ds_correction_oracle.h. Includes nothing of
 // common/ beyond the layout struct of the textures.
+#include "validation/case_support.h"
 #include "validation/ds_correction_oracle.h"
 
 #include <algorithm>
@@ -8,7 +9,6 @@
 namespace ft::oracle {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Axis of n texels: periodic with centres (k + c)/n, or clamped with centres (k + ½)/n.
 struct AxisWeights {

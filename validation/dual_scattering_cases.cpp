@@ -24,6 +24,7 @@
 #include "gpu/dual_scattering_gpu.h"
 #include "reference/dual_scattering.h"
 #include "scene/fabric.h"
+#include "validation/case_support.h"
 #include "validation/dual_scattering_oracle.h"
 #include "validation/harness.h"
 
@@ -31,9 +32,7 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-constexpr double kPi = 3.14159265358979323846;
 
 // ---- Tolerances, each with its reason ------------------------------------------
 

@@ -1,4 +1,5 @@
 // dual_scattering_oracle.cpp — see dual_scattering_oracle.h. Includes nothing from common/.
+#include "validation/case_support.h"
 #include "validation/dual_scattering_oracle.h"
 
 #include <algorithm>
@@ -7,7 +8,6 @@
 namespace ft::oracle {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 glm::dvec3 cTT(const Fabric& f) { return {f.colorTT[0], f.colorTT[1], f.colorTT[2]}; }
 glm::dvec3 safe(glm::dvec3 v) { return glm::max(v, glm::dvec3(1e-300)); }

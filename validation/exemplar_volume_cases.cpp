@@ -31,13 +31,13 @@
 #include "gpu/fiber_renderer.h"
 #include "reference/exemplar.h"
 #include "reference/exemplar_volume.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 CaseResult start(const std::string& name) {
   CaseResult r;

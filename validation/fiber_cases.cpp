@@ -18,6 +18,7 @@
 #include "gpu/fiber_renderer.h"
 #include "validation/harness.h"
 #include "gpu/gpu_timer.h"
+#include "validation/case_support.h"
 #include "validation/vertex_compare.h"
 
 namespace ft {
@@ -25,9 +26,6 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // ---- Tolerances, each with its reason ---------------------------------------
 

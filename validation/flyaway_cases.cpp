@@ -22,6 +22,7 @@
 #include "scene/lighting.h"
 #include "scene/yarn_fibers.h"
 #include "scene/flyaway_input.h"
+#include "validation/case_support.h"
 #include "validation/flyaway_oracle.h"
 #include "validation/harness.h"
 
@@ -30,7 +31,6 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 const char* kPath = "flyaway";
 constexpr uint32_t kStatPatterns = 64;
 // Eq. 13's curvature in the statistics: α = 1 is eq. 12 (R linear in t),

@@ -1,4 +1,5 @@
 // The flyaway oracle: no include of common/ (see flyaway_oracle.h).
+#include "validation/case_support.h"
 #include "validation/flyaway_oracle.h"
 
 #include <fmt/format.h>
@@ -12,7 +13,6 @@ namespace ft::oracle {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kClampMass = 0.0013498980316301;  // Φ(−3): the mass ftNormal-style clamping moves to ±3σ
 
 double phi(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }

@@ -51,6 +51,7 @@
 #include "reference/shading_inputs.h"
 #include "scene/lighting.h"
 #include "scene/yarn_preset.h"
+#include "validation/case_support.h"
 #include "validation/direct_compare.h"
 #include "validation/fidelity_xi.h"
 #include "validation/harness.h"
@@ -59,12 +60,10 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // 3 × 3 stitches at 320 × 240: the yarns ~20 px wide, so the frame holds core,
 // regular fibers and interior pixels (shading/direct asks ≥ 500) at CI cost.
-constexpr int kRows = 3, kCols = 3;
-constexpr int kWidth = 320, kHeight = 240;
+constexpr int kPatchRows = 3, kPatchCols = 3;
 const Deformation kDeformation{Deformation::StretchCourse, 1.4};
 // The twin looks closer, at the patch's centre: at the whole patch the fibers
 // are 0.13 px wide and LoD (000 eq. 4) merges every one into the core, so the
@@ -103,7 +102,7 @@ void setRestLengths(YarnBuffers& frame, const YarnModel& rest) {
 const KnitFrameInputs& knitFrame(ValidationContext& ctx) {
   return ctx.cached(CacheKey<KnitFrameInputs>{"knit-appearance/frame"}, [&] {
     KnitFrameInputs in;
-    const StitchMesh rest = makeStockinette(kRows, kCols);
+    const StitchMesh rest = makeStockinette(kPatchRows, kPatchCols);
     const KnitOptions options;
     in.setup = buildKnitSetup(rest, deform(rest, kDeformation), options);
     KnitGpu& gpu = ctx.gpu<KnitGpu>();
@@ -127,7 +126,7 @@ const KnitFrameInputs& knitFrame(ValidationContext& ctx) {
     FiberOptions fo;
     fo.seed = ctx.options().fiber.seed;
     in.fibers = knitFibers(in.preset, options, fo);
-    in.camera = knitCamera(in.setup, kWidth, kHeight);
+    in.camera = knitCamera(in.setup, kFrameWidth, kFrameHeight);
     in.closeup = in.camera;
     in.closeup.eye = in.camera.target + (in.camera.eye - in.camera.target) / kCloseupZoom;
     in.closeup.zNear = in.camera.zNear / kCloseupZoom;
@@ -160,7 +159,7 @@ ImageRgbaF renderKnit(ValidationContext& ctx, const KnitFrameInputs& in, const C
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
   renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake(
       {s, &in.fibers.fit.preset, appearance, &in.fibers.params, &in.fibers.table}));
-  return renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kWidth, kHeight);
+  return renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kFrameWidth, kFrameHeight);
 }
 
 struct TwinTruth {
@@ -214,7 +213,7 @@ CaseResult runTwin(ValidationContext& ctx, bool tessellation, const std::string&
   r.details = fmt::format(
       "{}×{} stockinette stretched 1.4× along the course, cotton1 at yarn radius {:.3g} (scale {:.3f}), cotton, "
       "{}x{} at {:g}× the knit camera's closeness; {} interior of {} covered pixels{}; twin: {} curve segments, {} rays; inputs {:.0f} ms",
-      kRows, kCols, in.fibers.fit.radius, in.fibers.fit.scale, kWidth, kHeight, kCloseupZoom, c.interior, c.covered, c.pools,
+      kPatchRows, kPatchCols, in.fibers.fit.radius, in.fibers.fit.scale, kFrameWidth, kFrameHeight, kCloseupZoom, c.interior, c.covered, c.pools,
       t.segments, t.truth.stats.rays() + t.truth16.stats.rays(), msSince(t0) - r.gpuMilliseconds - r.cpuMilliseconds);
   r.finish();
   return r;
@@ -340,8 +339,8 @@ CaseResult runFidelity(ValidationContext& ctx, KnitFidelity variant, const std::
   }
   r.details = fmt::format("{}×{} stockinette stretched 1.4×, cotton1, cotton, {}, {}x{}, the knit camera; "
                           "approximations: {}; reference: {} fibers per ply, {} curve segments, 4 spp, shadow rays{}",
-                          kRows, kCols, env ? "the procedural sky (data/env/sky.exr) alone" : "front light", kWidth,
-                          kHeight,
+                          kPatchRows, kPatchCols, env ? "the procedural sky (data/env/sky.exr) alone" : "front light", kFrameWidth,
+                          kFrameHeight,
                           xi    ? "the defaults, --env (CI table), --soft-shadows, dual scattering with the CI xi bake"
                           : env ? "the defaults, --env (CI table), --soft-shadows"
                           : approximations ? "the defaults"

@@ -16,13 +16,13 @@
 #include "reference/knit_reference.h"
 #include "scene/input_error.h"
 #include "gpu/fiber_renderer.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // ---- Tolerances, each with its reason ---------------------------------------
 

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "validation/case_support.h"
 #include "validation/harness_frame.h"
 
 namespace ft {
@@ -24,7 +25,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kWidth = 320, kHeight = 240;
 // The occluder pass must occlude at least this share of the pixels for the
 // equality to mean anything. Measured on the built-in scene at 320 × 240:
 // 0.24 (close-up), 0.12 (frame, which leaves most of the image empty).
@@ -38,13 +38,13 @@ CaseResult runOcclusionCull(ValidationContext& ctx, const std::string& view, boo
   r.path = pathName;
   const auto t0 = Clock::now();
   const AppearanceOptions everything;  // core texture, self-shadow, AO fit, shadow map: the defaults
-  const FiberPath path = prepareHarnessFrame(ctx, view, tessellation, everything, kWidth, kHeight);
+  const FiberPath path = prepareHarnessFrame(ctx, view, tessellation, everything, kFrameWidth, kFrameHeight);
   FiberGpu& gpu = ctx.gpu<FiberGpu>();
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
   renderer.setOcclusionCull(false);
-  const ImageRgbaF all = renderer.render(gpu, path, kWidth, kHeight);
+  const ImageRgbaF all = renderer.render(gpu, path, kFrameWidth, kFrameHeight);
   renderer.setOcclusionCull(true);
-  const ImageRgbaF culled = renderer.render(gpu, path, kWidth, kHeight);
+  const ImageRgbaF culled = renderer.render(gpu, path, kFrameWidth, kFrameHeight);
   const double occluded = renderer.occludedFraction();
   r.gpuMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   r.gpuTiming = "steady_clock: bakes + 2 frames with read-back";

@@ -20,13 +20,13 @@
 #include "gpu/prt_single_scattering_gpu.h"
 #include "reference/prt_frame.h"
 #include "scene/fabric.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // CI sizes (the whole case ≤ ~3 s on 2 cores): a block of 20 fibers per ply
 // (2,560 segments), 3 × 3 tiles, 24² images, 16² visibility images, 600 IIRTF

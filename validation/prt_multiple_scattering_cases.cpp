@@ -28,14 +28,13 @@
 #include "reference/exemplar.h"
 #include "reference/prt_multiple_scattering.h"
 #include "scene/fabric.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-constexpr double kPi = 3.14159265358979323846;
 
 // The 2-fiber plain-weave block (64 segments) of the accumulate and stderr cases.
 Exemplar smallBlock() {
@@ -52,10 +51,6 @@ CaseResult start(const std::string& name) {
   r.group = "prt-ms";
   r.path = "ms";
   return r;
-}
-template <class T>
-uint64_t nonFinite(const std::vector<T>& v) {
-  return uint64_t(std::count_if(v.begin(), v.end(), [](T x) { return !std::isfinite(double(x)); }));
 }
 
 // ---- the oracle (no common/) ---------------------------------------------------
@@ -173,7 +168,7 @@ CaseResult runShCase(ValidationContext& ctx, const std::string& name) {
              "GPU M(R)Y(ω) vs the oracle's Y(Rω): 4 recurrence levels of 3×3 float products, measured ≤ 3e-6"},
       Metric{"sh.gpu_ubo_bindings", double(gpu.uniformBufferBindings()), 1e9, "count",
              fmt::format("GL_MAX_UNIFORM_BUFFER_BINDINGS of this driver; FT_UBO_PRT_MS = {}", FT_UBO_PRT_MS), false},
-      nonFiniteMetric("gpu", nonFinite(probe), "GPU Y and M(R)Y values"),
+      nonFiniteMetric("gpu", nonFiniteCount(probe), "GPU Y and M(R)Y values"),
   };
   r.finish();
   return r;
@@ -237,8 +232,8 @@ CaseResult runTablesCase(ValidationContext& ctx, const std::string& name) {
              fmt::format("GPU C_S (float) vs CPU (double), silk: 2,048-term sums of float lobes; 2e-4 of the largest "
                          "entry ({:.4g}), the float sum's ~√n·ulp growth with margin",
                          scale)},
-      nonFiniteMetric("cpu", nonFinite(cpu.cs) + nonFinite(cpu.cg), "CPU C_S and C_G"),
-      nonFiniteMetric("gpu", nonFinite(g.cs) + nonFinite(g.cg) + nonFinite(g.phi), "GPU Φ, C_S and C_G"),
+      nonFiniteMetric("cpu", nonFiniteCount(cpu.cs) + nonFiniteCount(cpu.cg), "CPU C_S and C_G"),
+      nonFiniteMetric("gpu", nonFiniteCount(g.cs) + nonFiniteCount(g.cg) + nonFiniteCount(g.phi), "GPU Φ, C_S and C_G"),
   };
   r.finish();
   return r;
@@ -406,7 +401,7 @@ CaseResult runFrameCase(ValidationContext& ctx, const std::string& name) {
                          s.block.label, s.ell, s.block.period, is.pathsPerCell, s.rays, s.bakeMs,
                          double(s.rays) / std::max(1e-3, s.bakeMs * 1e-3)),
              false},
-      nonFiniteMetric("cpu", nonFiniteCpu + nonFinite(s.transfer), "CPU radiances and A_C entries"),
+      nonFiniteMetric("cpu", nonFiniteCpu + nonFiniteCount(s.transfer), "CPU radiances and A_C entries"),
       nonFiniteMetric("gpu", nonFiniteGpu, "GPU radiances"),
   };
   r.finish();
@@ -619,8 +614,8 @@ CaseResult runVgloCase(ValidationContext& ctx, const std::string& name) {
                          draws, points)},
       Metric{"vglo.mc40_rms", rms40, 1e9, "visibility",
              "the same with 004's 40 samples per fragment (for reading: ≈ 0.5/√40 = 0.08 at most)", false},
-      nonFiniteMetric("cpu", nonFinite(cpu), "CPU V̄_glo"),
-      nonFiniteMetric("gpu", nonFinite(g), "GPU V̄_glo"),
+      nonFiniteMetric("cpu", nonFiniteCount(cpu), "CPU V̄_glo"),
+      nonFiniteMetric("gpu", nonFiniteCount(g), "GPU V̄_glo"),
   };
   r.finish();
   return r;
@@ -692,8 +687,8 @@ CaseResult runAccumulateCase(ValidationContext& ctx, const std::string& name) {
              "(plus the products' rounding)"},
       Metric{"accumulate.samples_match", double(samples.size() == cell.paths ? 0 : 1), 0.0, "flag",
              "the re-drawn sample count equals the bake's paths for the cell"},
-      nonFiniteMetric("cpu", nonFinite(cell.a), "CPU A_C"),
-      nonFiniteMetric("gpu", nonFinite(g), "GPU A_C"),
+      nonFiniteMetric("cpu", nonFiniteCount(cell.a), "CPU A_C"),
+      nonFiniteMetric("gpu", nonFiniteCount(g), "GPU A_C"),
   };
   r.finish();
   return r;

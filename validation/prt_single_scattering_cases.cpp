@@ -36,17 +36,16 @@
 #include "reference/segment_visibility.h"
 #include "scene/fabric.h"
 #include "validation/bcsdf_oracle.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
-CaseResult start(const std::string& name) {
+CaseResult startSs(const std::string& name) {
   CaseResult r;
   r.name = name;
   r.group = "prt-ss";
@@ -186,7 +185,7 @@ glm::dvec3 sphericalZ(double theta, double phi) {  // θ from +z
 constexpr double kGammaTolerance = 5e-3;
 
 CaseResult runGammaCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   const auto t0 = Clock::now();
   struct Point {
@@ -255,7 +254,7 @@ CaseResult runGammaCase(ValidationContext& ctx, const std::string& name) {
 constexpr double kDelta4Tolerance = 0.2, kDelta6Tolerance = 2e-3;
 
 CaseResult runDeltaCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   const auto t0 = Clock::now();
   double err4 = 0.0, err6 = 0.0;
@@ -304,7 +303,7 @@ CaseResult runDeltaCase(ValidationContext& ctx, const std::string& name) {
 }
 
 CaseResult runLimitsCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   const auto t0 = Clock::now();
   // erf: the shared float polynomial vs std::erf.
@@ -381,7 +380,7 @@ CaseResult runLimitsCase(ValidationContext& ctx, const std::string& name) {
 }
 
 CaseResult runFurnaceCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   const auto t0 = Clock::now();
   const double lambda = 200.0;
@@ -523,8 +522,8 @@ constexpr double kExemplarSoftTolerance = 0.25, kExemplarSharpTolerance = 0.45;
 // against a lune 35° wide), sharp 0.10.
 constexpr double kCylinderSoftTolerance = 0.35, kCylinderSharpTolerance = 0.15;
 
-CaseResult runLoneCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+CaseResult runSsLoneCase(ValidationContext& ctx, const std::string& name) {
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   const auto t0 = Clock::now();
   // A lone segment along x: the SVF code's image is all visible, SSDF = +π.
@@ -601,7 +600,7 @@ CaseResult runLoneCase(ValidationContext& ctx, const std::string& name) {
 }
 
 CaseResult runExemplarCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   const auto t0 = Clock::now();
   ExemplarSettings es;
@@ -709,8 +708,8 @@ CaseResult runExemplarCase(ValidationContext& ctx, const std::string& name) {
 // φ_x = atan2(ω_z, ω_y) (notes-appearance §5.6). The SVF data come from the
 // lune drawn into a 64² image here (svfSsdfCpu, svfWeightsCpu); the MC uses
 // the exact, continuous lune.
-CaseResult runCylinderCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+CaseResult runSsCylinderCase(ValidationContext& ctx, const std::string& name) {
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   const auto t0 = Clock::now();
   const double d = 0.1, rc = 0.03, alpha = 1.2, half = std::asin(rc / d);
@@ -774,8 +773,8 @@ CaseResult runCylinderCase(ValidationContext& ctx, const std::string& name) {
 }
 
 // ---- CPU vs GPU ---------------------------------------------------------------
-CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+CaseResult runSsGpuCase(ValidationContext& ctx, const std::string& name) {
+  CaseResult r = startSs(name);
   const Fabrics& fs = fabrics(ctx);
   PrtSingleScatteringGpu& gpu = ctx.gpu<PrtSingleScatteringGpu>();
   // The 𝒢 tables: GPU (bcsdf.h's Z in float) vs CPU (double quadrature here).
@@ -890,10 +889,10 @@ void addPrtSingleScatteringCases(ValidationContext&, std::vector<ValidationCase>
   out.push_back({"prt/ss/delta", [](ValidationContext& c) { return runDeltaCase(c, "prt/ss/delta"); }});
   out.push_back({"prt/ss/limits", [](ValidationContext& c) { return runLimitsCase(c, "prt/ss/limits"); }});
   out.push_back({"prt/ss/furnace", [](ValidationContext& c) { return runFurnaceCase(c, "prt/ss/furnace"); }});
-  out.push_back({"prt/ss/lone", [](ValidationContext& c) { return runLoneCase(c, "prt/ss/lone"); }});
+  out.push_back({"prt/ss/lone", [](ValidationContext& c) { return runSsLoneCase(c, "prt/ss/lone"); }});
   out.push_back({"prt/ss/exemplar", [](ValidationContext& c) { return runExemplarCase(c, "prt/ss/exemplar"); }});
-  out.push_back({"prt/ss/cylinder", [](ValidationContext& c) { return runCylinderCase(c, "prt/ss/cylinder"); }});
-  out.push_back({"prt/ss/gpu", [](ValidationContext& c) { return runGpuCase(c, "prt/ss/gpu"); }});
+  out.push_back({"prt/ss/cylinder", [](ValidationContext& c) { return runSsCylinderCase(c, "prt/ss/cylinder"); }});
+  out.push_back({"prt/ss/gpu", [](ValidationContext& c) { return runSsGpuCase(c, "prt/ss/gpu"); }});
 }
 
 }  // namespace ft

@@ -22,14 +22,13 @@
 #include "gpu/segment_visibility_gpu.h"
 #include "reference/exemplar.h"
 #include "reference/segment_visibility.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-constexpr double kPi = 3.14159265358979323846;
 
 // ---- the oracle: the image convention re-derived in double (no common/) ------
 struct Dir {
@@ -47,12 +46,8 @@ double wrapAngle(double a) {
   if (a < 0.0) a += 2.0 * kPi;
   return a - kPi;
 }
-template <class T>
-uint64_t nonFinite(const std::vector<T>& v) {
-  return uint64_t(std::count_if(v.begin(), v.end(), [](T x) { return !std::isfinite(double(x)); }));
-}
 
-CaseResult start(const std::string& name) {
+CaseResult startSvf(const std::string& name) {
   CaseResult r;
   r.name = name;
   r.group = "prt-visibility";
@@ -72,8 +67,8 @@ constexpr double kWeightSumTolerance = 1e-4;
 // are ambiguous (Embree's curve tests are float) and excluded.
 constexpr double kEdgeMargin = 1e-4;
 
-CaseResult runLoneCase(ValidationContext&, const std::string& name) {
-  CaseResult r = start(name);
+CaseResult runSvfLoneCase(ValidationContext&, const std::string& name) {
+  CaseResult r = startSvf(name);
   const auto t0 = Clock::now();
   const std::vector<ExemplarSegment> segs = {{glm::vec3(-0.005f, 0, 0), glm::vec3(0.005f, 0, 0), 0.001f, 0}};
   const SvfScene scene(segs);
@@ -100,14 +95,14 @@ CaseResult runLoneCase(ValidationContext&, const std::string& name) {
       Metric{"lone.sg_integral_rel", std::abs(integral - sum) / sum, 1e-3, "relative",
              "∫ V^ssg over the sphere = Σ_q w (normalized SGs): midpoint rule on 0.7° pixels for lobes of width "
              "1/√λ = 5°, second order: ~(0.7/5)²/24 ≈ 1e-3 worst case"},
-      nonFiniteMetric("cpu", nonFinite(ssdf) + nonFinite(w) + nonFinite(fine), "SSDF values, weights, V^ssg"),
+      nonFiniteMetric("cpu", nonFiniteCount(ssdf) + nonFiniteCount(w) + nonFiniteCount(fine), "SSDF values, weights, V^ssg"),
   };
   r.finish();
   return r;
 }
 
 CaseResult runHelixCase(ValidationContext&, const std::string& name) {
-  CaseResult r = start(name);
+  CaseResult r = startSvf(name);
   // A tight helix (radius 0.05, pitch 0.08, 6 turns, tube radius 0.012): from
   // the middle of it, the rest of the same fiber covers a large part of the
   // sphere — which 004 §4.1a says does not occlude.
@@ -134,8 +129,8 @@ CaseResult runHelixCase(ValidationContext&, const std::string& name) {
   return r;
 }
 
-CaseResult runCylinderCase(ValidationContext&, const std::string& name) {
-  CaseResult r = start(name);
+CaseResult runSvfCylinderCase(ValidationContext&, const std::string& name) {
+  CaseResult r = startSvf(name);
   const double d = 0.1, rc = 0.03, alpha = 1.2;  // axis at (0, d cos α, d sin α) along x
   const double beta = std::asin(rc / d);
   std::vector<ExemplarSegment> segs = {{glm::vec3(-0.005f, 0, 0), glm::vec3(0.005f, 0, 0), 0.001f, 0}};
@@ -213,14 +208,14 @@ CaseResult runCylinderCase(ValidationContext&, const std::string& name) {
                          pixelDiag, ssdfExcluded)},
       Metric{"cylinder.weight_sum_err", std::abs(wsum - visibleUpper) / (2.0 * kPi), kWeightSumTolerance,
              "of 2π", "Σ_q w = the visible z > 0 solid angle (oracle's band areas, double); float sums"},
-      nonFiniteMetric("cpu", nonFinite(ssdf) + nonFinite(w), "SSDF values and weights"),
+      nonFiniteMetric("cpu", nonFiniteCount(ssdf) + nonFiniteCount(w), "SSDF values and weights"),
   };
   r.finish();
   return r;
 }
 
 CaseResult runAxesCase(ValidationContext&, const std::string& name) {
-  CaseResult r = start(name);
+  CaseResult r = startSvf(name);
   const int Q = FT_SVF_DEFAULT_AXES;
   const double step = 4.0 * kPi / (1.0 + std::sqrt(5.0));
   double zErr = 0.0, stepErr = 0.0, normErr = 0.0;
@@ -272,8 +267,8 @@ constexpr double kPcaDecodeTolerance = 1e-4;
 // 1e-4 of the largest value.
 constexpr double kSgDecodeTolerance = 1e-4;
 
-CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
-  CaseResult r = start(name);
+CaseResult runSvfGpuCase(ValidationContext& ctx, const std::string& name) {
+  CaseResult r = startSvf(name);
   ExemplarSettings es;
   es.fibersPerPly = 4;
   es.spansPerYarn = 8;
@@ -338,7 +333,7 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
 
   const int P = kW * kH;
   double ssdfErr = 0.0, weightErr = 0.0, sumErr = 0.0, pcaErr = 0.0, sgErr = 0.0, sgMax = 0.0;
-  uint64_t cellMismatch = 0, cellAmbiguous = 0, nonFiniteGpu = nonFinite(g.ssdf) + nonFinite(g.weights);
+  uint64_t cellMismatch = 0, cellAmbiguous = 0, nonFiniteGpu = nonFiniteCount(g.ssdf) + nonFiniteCount(g.weights);
   size_t worstImage = 0, worstPixel = 0;
   for (size_t i = 0; i < n; ++i) {
     for (int p = 0; p < P; ++p) {
@@ -471,7 +466,7 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
              false},
       Metric{"exemplar.segments", double(S), 0, "count",
              fmt::format("{}; {} rows × {}² pixels in the PCA, {} through the GPU", block.label, rows, kW, n), false},
-      nonFiniteMetric("cpu", nonFinite(ssdfAll), "CPU SSDF values"),
+      nonFiniteMetric("cpu", nonFiniteCount(ssdfAll), "CPU SSDF values"),
       nonFiniteMetric("gpu", nonFiniteGpu, "GPU SSDF, weights, decodes"),
   };
   r.finish();
@@ -481,12 +476,12 @@ CaseResult runGpuCase(ValidationContext& ctx, const std::string& name) {
 }  // namespace
 
 void addSegmentVisibilityCases(ValidationContext&, std::vector<ValidationCase>& out) {
-  out.push_back({"prt/visibility/lone", [](ValidationContext& c) { return runLoneCase(c, "prt/visibility/lone"); }});
+  out.push_back({"prt/visibility/lone", [](ValidationContext& c) { return runSvfLoneCase(c, "prt/visibility/lone"); }});
   out.push_back({"prt/visibility/helix", [](ValidationContext& c) { return runHelixCase(c, "prt/visibility/helix"); }});
   out.push_back(
-      {"prt/visibility/cylinder", [](ValidationContext& c) { return runCylinderCase(c, "prt/visibility/cylinder"); }});
+      {"prt/visibility/cylinder", [](ValidationContext& c) { return runSvfCylinderCase(c, "prt/visibility/cylinder"); }});
   out.push_back({"prt/visibility/axes", [](ValidationContext& c) { return runAxesCase(c, "prt/visibility/axes"); }});
-  out.push_back({"prt/visibility/gpu", [](ValidationContext& c) { return runGpuCase(c, "prt/visibility/gpu"); }});
+  out.push_back({"prt/visibility/gpu", [](ValidationContext& c) { return runSvfGpuCase(c, "prt/visibility/gpu"); }});
 }
 
 }  // namespace ft

@@ -30,6 +30,7 @@
 #include "gpu/self_shadow_gpu.h"
 #include "reference/self_shadow.h"
 #include "scene/yarn_density.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 #include "validation/self_shadow_oracle.h"
 
@@ -37,8 +38,6 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-constexpr double kPi = 3.14159265358979323846;
 
 constexpr uint32_t kSize = FT_SELF_SHADOW_CI_SIZE, kSlices = FT_SELF_SHADOW_CI_SLICES;
 

@@ -1,4 +1,5 @@
 // self_shadow_oracle.cpp — see self_shadow_oracle.h. Includes nothing from common/.
+#include "validation/case_support.h"
 #include "validation/self_shadow_oracle.h"
 
 #include <algorithm>
@@ -10,7 +11,6 @@
 namespace ft::oracle {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Nodes and weights on [0, 1], graded toward both ends: the halves are cut
 // into panels [r^{l+1}, r^l]·½ (l < 10, r = 0.3) plus the innermost piece,

@@ -36,6 +36,7 @@
 #include "scene/camera.h"
 #include "scene/lighting.h"
 #include "validation/bcsdf_oracle.h"
+#include "validation/case_support.h"
 #include "validation/direct_compare.h"
 #include "validation/fidelity_xi.h"
 #include "validation/harness.h"
@@ -45,9 +46,7 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-constexpr int kWidth = 320, kHeight = 240;
 // Fabrics the cases run: the narrowest R lobe (cotton, β_R = 1°, F ≈ 1) and
 // the broadest lobes with a visible TT (fleece).
 const char* const kFabrics[] = {"cotton", "fleece"};
@@ -91,7 +90,7 @@ GroundTruthInputs& groundTruthInputs(ValidationContext& ctx) {
   return ctx.cached(CacheKey<GroundTruthInputs>{"shading/ground-truth-scene"}, [&] {
     GroundTruthInputs in;
     in.setup = &ctx.fiberSetup(shadingPreset(ctx));
-    in.camera = closeupCamera(ctx.model(), kWidth, kHeight);
+    in.camera = closeupCamera(ctx.model(), kFrameWidth, kFrameHeight);
     in.view = makeViewParams(in.camera, ctx.options().lodThresholdPx, true, true);
     const FiberInput input{&ctx.buffers(), &in.setup->table, in.setup->params, in.view};
     const FiberGeometry geometry = generateFibersCpu(input, ctx.cpuFrames());
@@ -168,7 +167,7 @@ ImageRgbaF renderGpu(ValidationContext& ctx, const GroundTruthInputs& in, const 
   gpu.setSegmentList({});
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
   renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, nullptr, AppearanceOptions::none()}));
-  return renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kWidth, kHeight);
+  return renderer.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kFrameWidth, kFrameHeight);
 }
 
 // What both kinds of case start with: the result's identity, the lighting
@@ -376,7 +375,7 @@ CaseResult runDirect(ValidationContext& ctx, const std::string& fabric, const st
   }
   r.details = fmt::format("fabric {}, {} light, camera {}x{} close-up, {} interior of {} covered pixels{}; ground "
                           "truth {} rays",
-                          fabric, light, kWidth, kHeight, interior, covered, pools,
+                          fabric, light, kFrameWidth, kFrameHeight, interior, covered, pools,
                           truth.stats.rays() + truth16.stats.rays());
   r.finish();
   return std::move(r);
@@ -626,7 +625,7 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
   AppearanceOptions options = row.options;
   if (options.dsCorrectionFile) options.dsCorrectionFile = fidelityXiFile(ctx, preset, fabric);
   renderer.setShading(ctx.gpu<ShadingBakeGpu>().bake({s, &fitted.fit.preset, options, &in.setup->params, &in.setup->table}));
-  const ImageRgbaF img = renderer.render(gpu, FiberPath::Compute, kWidth, kHeight);
+  const ImageRgbaF img = renderer.render(gpu, FiberPath::Compute, kFrameWidth, kFrameHeight);
   r.gpuMilliseconds = msSince(t0);
   const auto t1 = Clock::now();
   const FiberTraceScene& scene = allFiberScene(ctx, in);

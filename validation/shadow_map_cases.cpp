@@ -40,6 +40,7 @@
 #include "scene/yarn_model.h"
 #include "scene/yarn_preset.h"
 #include "scene/yarn_radius.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 #include "validation/shadow_scene.h"
 
@@ -47,9 +48,7 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kPi = 3.14159265358979323846;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // The tube radius of notes §0.3 written out from the preset's fields.
 double reachW(const YarnPreset& p) { return p.yarnRadius / 2.0 + std::max(p.ellipseLong, p.ellipseShort) * p.rMax; }

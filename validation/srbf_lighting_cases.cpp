@@ -38,6 +38,7 @@
 #include "scene/lighting.h"
 #include "scene/yarn_fibers.h"
 #include "validation/bcsdf_oracle.h"
+#include "validation/case_support.h"
 #include "validation/ds_correction_oracle.h"
 #include "validation/harness.h"
 #include "validation/srbf_oracle.h"
@@ -46,9 +47,7 @@ namespace ft {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kPi = 3.14159265358979323846;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 oracle::Fabric toOracle(const FabricPreset& p) {
   oracle::Fabric f;

@@ -1,4 +1,5 @@
 // srbf_oracle.cpp — see srbf_oracle.h. No common/ include here.
+#include "validation/case_support.h"
 #include "validation/srbf_oracle.h"
 
 #include <algorithm>
@@ -6,7 +7,6 @@
 
 namespace ft::oracle {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 glm::dvec3 equirectDirection(int x, int y, int width, int height) {

@@ -42,6 +42,7 @@
 #include "scene/camera.h"
 #include "scene/lighting.h"
 #include "scene/yarn_model.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 #include "validation/harness_frame.h"
 
@@ -50,7 +51,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kWidth = 320, kHeight = 240;
 constexpr float kOffsetRadii = 3.0f;
 // Tolerances, pixels. The point's projection itself rounds (~1e-3 px at the
 // close-up); interpolating offsets from the line's end measured a 99th
@@ -89,7 +89,7 @@ CaseResult runStripRays(ValidationContext& ctx, const std::string& view, bool te
   YarnBuffers moved = ctx.buffers();
   for (ControlPoint& p : moved.points)
     p.positionLength = glm::vec4(glm::vec3(p.positionLength) + offset, p.positionLength.w);
-  Camera camera = namedViewCamera(view, ctx.model(), setup.params, glm::vec3(0.3f, 0.5f, 1.0f), kWidth, kHeight);
+  Camera camera = namedViewCamera(view, ctx.model(), setup.params, glm::vec3(0.3f, 0.5f, 1.0f), kFrameWidth, kFrameHeight);
   camera.eye += offset;
   camera.target += offset;
 
@@ -107,7 +107,7 @@ CaseResult runStripRays(ValidationContext& ctx, const std::string& view, bool te
   probe.setShading(inputs);
   probe.setDeferred(false);  // the probe is the forward pass's output
   probe.setOcclusionCull(false);
-  const ImageRgbaF image = probe.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kWidth, kHeight);
+  const ImageRgbaF image = probe.render(gpu, tessellation ? FiberPath::Tessellation : FiberPath::Compute, kFrameWidth, kFrameHeight);
   gpu.setModel(ctx.buffers(), setup.table);  // leave the shared FiberGpu as the other cases expect it
   r.gpuMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   r.gpuTiming = "steady_clock: program build + 1 frame with read-back";
@@ -170,12 +170,12 @@ CaseResult runStripShape(ValidationContext& ctx, const std::string& view, bool t
   r.path = pathName;
   const auto t0 = Clock::now();
   const AppearanceOptions everything;  // the frame as drawn by default: core texture holes included
-  const FiberPath path = prepareHarnessFrame(ctx, view, tessellation, everything, kWidth, kHeight);
+  const FiberPath path = prepareHarnessFrame(ctx, view, tessellation, everything, kFrameWidth, kFrameHeight);
   FiberGpu& gpu = ctx.gpu<FiberGpu>();
   FiberRenderer& renderer = ctx.gpu<FiberRenderer>();
   // With timings: the shaded (visibility) pass's triangle count.
   FrameTimings drawnTimings, plainTimings;
-  renderer.draw(gpu, path, kWidth, kHeight, &drawnTimings);
+  renderer.draw(gpu, path, kFrameWidth, kFrameHeight, &drawnTimings);
   const ImageRgbaF drawn = renderer.read();
   std::vector<std::string> defines = ctx.defines();
   defines.push_back("FT_STRIP_RECTANGLES");
@@ -183,7 +183,7 @@ CaseResult runStripShape(ValidationContext& ctx, const std::string& view, bool t
   rectangles.setShading(renderer.shading());
   rectangles.setOcclusionCull(renderer.occlusionCull());
   rectangles.setDeferred(renderer.deferred());
-  rectangles.draw(gpu, path, kWidth, kHeight, &plainTimings);
+  rectangles.draw(gpu, path, kFrameWidth, kFrameHeight, &plainTimings);
   const ImageRgbaF plain = rectangles.read();
   // Lines drawn as one triangle: the rectangles-only pass emits two per line.
   const double triangleLines = double(plainTimings.shadePrimitives) - double(drawnTimings.shadePrimitives);
