@@ -9,8 +9,11 @@ function(ft_target_defaults target)
                                            -fno-fast-math -fno-math-errno)
   # GCC 12 has no <format>: fmt is the formatting library everywhere.
   target_link_libraries(${target} PRIVATE fmt::fmt)
+  # A UBSan finding stops the program (the default prints it and carries on,
+  # and ctest shows the output of failed tests only).
   if(FT_SANITIZE)
-    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-sanitize-recover=undefined
+                                             -fno-omit-frame-pointer)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
   endif()
 endfunction()
