@@ -18,6 +18,7 @@
 #include "reference/bcsdf_tables.h"
 #include "scene/fabric.h"
 #include "scene/input_error.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -602,7 +603,7 @@ TEST(Bcsdf, FiberAnglesRecoverConstructedDirections) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double worstTheta = 0.0, worstPhi = 0.0;
   for (int i = 0; i < 100000; ++i) {
-    glm::dvec3 t(normal(rng), normal(rng), normal(rng));
+    glm::dvec3 t = drawVec3<glm::dvec3>(normal, rng);
     t = glm::normalize(t);
     const glm::dvec3 u = glm::normalize(glm::cross(t, std::abs(t.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
     const glm::dvec3 v = glm::cross(t, u);

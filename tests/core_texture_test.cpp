@@ -13,6 +13,7 @@
 #include "scene/input_error.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_preset.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -86,8 +87,10 @@ TEST(core_texture, RayCapsuleMatchesMarching) {
   int hits = 0, caps = 0;
   for (int n = 0; n < 400; ++n) {
     const double r = 0.3;
-    const glm::dvec3 a(0.3 * u(rng), 0.3 * u(rng), 0.2 * u(rng)), b = a + glm::dvec3(0.4 * u(rng), 0.4 * u(rng), 0.6 * u(rng));
-    const glm::dvec3 o(2.0, 0.6 * u(rng), 0.5 * u(rng));
+    const glm::dvec3 a = glm::dvec3(0.3, 0.3, 0.2) * drawVec3<glm::dvec3>(u, rng);
+    const glm::dvec3 b = a + glm::dvec3(0.4, 0.4, 0.6) * drawVec3<glm::dvec3>(u, rng);
+    const glm::dvec2 oyz = glm::dvec2(0.6, 0.5) * drawVec2<glm::dvec2>(u, rng);
+    const glm::dvec3 o(2.0, oyz);
     // March along −x in steps of 1e-3 to the first point within r, then
     // bisect (a chord shorter than a step, ~1e-6 r from the rim, is missed).
     double want = -1.0;

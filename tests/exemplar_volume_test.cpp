@@ -18,6 +18,7 @@
 #include "reference/exemplar.h"
 #include "reference/exemplar_volume.h"
 #include "scene/input_error.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -108,7 +109,7 @@ TEST(ExemplarVolume, CapsuleBoxTestIsConservativeAndBounded) {
   const glm::vec3 lo(-0.5f), hi(0.5f);
   int touching = 0;
   for (int k = 0; k < 6000; ++k) {
-    const glm::vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+    const glm::vec3 a = drawVec3<glm::vec3>(u, rng), b = drawVec3<glm::vec3>(u, rng);
     const float r = 0.25f;
     const bool t = ftVolSegmentTouchesBox(a, b, r, lo, hi);
     const double len = glm::length(glm::dvec3(b - a));
@@ -236,11 +237,11 @@ TEST(ExemplarVolume, RayCapsuleEntryMatchesSphereTracing) {
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   int hits = 0, misses = 0;
   for (int i = 0; i < 300; ++i) {
-    const glm::vec3 a(u(rng), u(rng), u(rng)), b = a + 0.6f * glm::vec3(u(rng), u(rng), u(rng));
+    const glm::vec3 a = drawVec3<glm::vec3>(u, rng), b = a + 0.6f * drawVec3<glm::vec3>(u, rng);
     const float r = 0.05f + 0.2f * std::abs(u(rng));
     // Rays from 3 units away aimed near the capsule (some hit, some pass).
-    const glm::vec3 target = 0.5f * (a + b) + 0.4f * glm::vec3(u(rng), u(rng), u(rng));
-    const glm::vec3 o = target + 3.0f * glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 target = 0.5f * (a + b) + 0.4f * drawVec3<glm::vec3>(u, rng);
+    const glm::vec3 o = target + 3.0f * glm::normalize(drawVec3<glm::vec3>(u, rng));
     const glm::vec3 d = glm::normalize(target - o);
     const float t = ftVolRayCapsule(o, d, a, b, r);
     const double tr = entryBySphereTracing(glm::dvec3(o), glm::dvec3(d), glm::dvec3(a), glm::dvec3(b), r, 8.0);

@@ -14,6 +14,7 @@
 #include "scene/default_scene.h"
 #include "scene/yarn_fibers.h"
 #include "tests/test_data.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -42,7 +43,7 @@ TEST(YarnCurve, CatmullRomToBezierMatchesDirectEvaluation) {
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   for (int trial = 0; trial < 100; ++trial) {
     vec3 p[4];
-    for (vec3& q : p) q = vec3(u(rng), u(rng), u(rng));
+    for (vec3& q : p) q = drawVec3<vec3>(u, rng);
     CurveInfo c{0, 4, 0, 0, 1.0f, FT_BASIS_CATMULL_ROM, 0, 0};
     SegmentIndices idx = ftSegmentIndices(c, 1);
     ASSERT_EQ(idx.i0, 0u);

@@ -11,6 +11,7 @@
 #include "common/segment_visibility.h"
 #include "reference/prt_frame.h"
 #include "scene/input_error.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -24,7 +25,8 @@ TEST(PrtFrame, SgSamplerMeanCosineIsLangevin) {
     const int n = 200000;
     double sum = 0.0, sq = 0.0;
     for (int i = 0; i < n; ++i) {
-      const glm::dvec3 w = sampleSgDirection(xi, lambda, u(rng), u(rng));
+      const double u2 = u(rng), u1 = u(rng);  // last first (validation/draw_order.h)
+      const glm::dvec3 w = sampleSgDirection(xi, lambda, u1, u2);
       ASSERT_NEAR(glm::length(w), 1.0, 1e-9);
       const double c = glm::dot(w, xi);
       sum += c, sq += c * c;

@@ -25,6 +25,7 @@
 #include "reference/prt_multiple_scattering.h"
 #include "scene/fabric.h"
 #include "scene/input_error.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -211,7 +212,8 @@ TEST(Iirtf, EstimatorOnAnalyticKernelWithinThreeSigma) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int i = 0; i < N; ++i) {
     glm::dvec3 w0, w1;
-    iirtfDirections(u(rng), u(rng), u(rng), u(rng), w0, w1);
+    const double u4 = u(rng), u3 = u(rng), u2 = u(rng), u1 = u(rng);  // last first (validation/draw_order.h)
+    iirtfDirections(u1, u2, u3, u4, w0, w1);
     const double T = (1.0 + glm::dot(w0, w1)) / (4 * kPi);
     iirtfAccumulate(sum, glm::dvec3(T), w0, w1);
     const std::vector<double> y0 = oracleAll(w0), y1 = oracleAll(w1);
@@ -348,7 +350,7 @@ TEST(PrtMsFrame, MatchesBruteForceOfTheIncomingRadiance) {
   for (int ch = 0; ch < 3; ++ch)
     for (int j1 = 0; j1 < FT_SH_COEFFS; ++j1) a[(size_t(ch) * FT_SH_COEFFS + size_t(j1)) * FT_SH_COEFFS] = std::sqrt(4 * kPi) * f[size_t(j1)];
   for (int trial = 0; trial < 2; ++trial) {
-    glm::dvec3 tt(n(rng), n(rng), n(rng)), wo(n(rng), n(rng), n(rng));
+    glm::dvec3 tt = drawVec3<glm::dvec3>(n, rng), wo = drawVec3<glm::dvec3>(n, rng);
     tt /= glm::length(tt);
     wo /= glm::length(wo);
     PrtMsQuery q{};

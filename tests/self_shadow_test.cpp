@@ -12,6 +12,7 @@
 #include "reference/self_shadow.h"
 #include "scene/yarn_density.h"
 #include "scene/yarn_preset.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -117,7 +118,7 @@ TEST(SelfShadow, LookupFollowsThePlyFrame) {
     for (int q = 0; q < 200; ++q) {
       const float s = float(0.5 * (unit(rng) + 1.0));
       const double a = M_PI * unit(rng);
-      const vec2 x(float(0.8 * d.supportRadius * unit(rng)), float(0.8 * d.supportRadius * unit(rng)));
+      const vec2 x = vec2(0.8 * d.supportRadius * drawVec2<glm::dvec2>(unit, rng));
       const vec2 toLight(float(std::cos(a)), float(std::sin(a)));
       const float theta = float(2.0 * M_PI * sign * (s * rates.ply - std::floor(s * rates.ply)));
       // θ_ply,0 is ply 0's direction in (N̂, B̂).

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/sh.h"
+#include "validation/draw_order.h"
 
 namespace ft {
 namespace {
@@ -51,7 +52,7 @@ void gaussLegendre(int n, std::vector<double>& x, std::vector<double>& w) {
 
 glm::dvec3 randomUnit(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
-  glm::dvec3 v(n(rng), n(rng), n(rng));
+  const glm::dvec3 v = drawVec3<glm::dvec3>(n, rng);
   return v / glm::length(v);
 }
 

@@ -24,6 +24,7 @@
 #include "scene/fabric.h"
 #include "validation/bcsdf_oracle.h"
 #include "validation/case_support.h"
+#include "validation/draw_order.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -164,7 +165,7 @@ Directions directionsOf(const std::vector<FiberAngles>& grid) {
   std::uniform_real_distribution<double> turn(0.0, 2.0 * kPi);
   Directions d;
   for (const FiberAngles& a : grid) {
-    const glm::dvec3 t = glm::normalize(glm::dvec3(normal(rng), normal(rng), normal(rng)));
+    const glm::dvec3 t = glm::normalize(drawVec3<glm::dvec3>(normal, rng));
     const glm::dvec3 u = glm::normalize(glm::cross(t, std::abs(t.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
     const glm::dvec3 v = glm::cross(t, u);
     const double phi0 = turn(rng);

@@ -22,6 +22,7 @@
 #include "gpu/ds_correction_gpu.h"
 #include "reference/ds_correction.h"
 #include "validation/case_support.h"
+#include "validation/draw_order.h"
 #include "validation/ds_correction_oracle.h"
 #include "validation/harness.h"
 
@@ -239,14 +240,16 @@ CaseResult runLookupCase(ValidationContext& ctx, const YarnPreset& preset, const
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::vector<glm::vec4> queries;
-  for (int k = 0; k < 2000; ++k)  // u, v a little outside [0, 1]: wrap and clamp; θ over [−π, π]
-    queries.emplace_back(-0.25f + 1.5f * unit(rng), -0.1f + 1.2f * unit(rng), float(kPi) * (2.0f * unit(rng) - 1.0f),
-                         float(2 * kPi) * unit(rng));
+  for (int k = 0; k < 2000; ++k) {  // u, v a little outside [0, 1]: wrap and clamp; θ over [−π, π]
+    const float w = unit(rng), z = unit(rng), y = unit(rng), x = unit(rng);  // last first (validation/draw_order.h)
+    queries.emplace_back(-0.25f + 1.5f * x, -0.1f + 1.2f * y, float(kPi) * (2.0f * z - 1.0f), float(2 * kPi) * w);
+  }
   // C4: φ = −ε and 2π − ε name one direction: a repeated axis reads the
   // same texels with the same weights (up to the rounding of φ/2π).
   const int seamPairs = 200;
   for (int k = 0; k < seamPairs; ++k) {
-    const glm::vec4 q(unit(rng), unit(rng), float(kPi) * (unit(rng) - 0.5f), 0.0f);
+    const float qz = unit(rng), qy = unit(rng), qx = unit(rng);  // last first (validation/draw_order.h)
+    const glm::vec4 q(qx, qy, float(kPi) * (qz - 0.5f), 0.0f);
     const float eps = 0.5f * unit(rng);
     queries.push_back(glm::vec4(q.x, q.y, q.z, -eps));
     queries.push_back(glm::vec4(q.x, q.y, q.z, float(2 * kPi) - eps));

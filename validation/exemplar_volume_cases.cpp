@@ -32,6 +32,7 @@
 #include "reference/exemplar.h"
 #include "reference/exemplar_volume.h"
 #include "validation/case_support.h"
+#include "validation/draw_order.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -367,8 +368,10 @@ CaseResult runPeriodicityCase(ValidationContext& ctx, const std::string& name) {
   };
   uint64_t bad = 0, tested = 0, skipped = 0, negative = 0;
   for (int k = 0; k < 20000; ++k) {
-    const glm::vec3 p(ux(rng), ux(rng), uz(rng));
-    const glm::vec3 q = p + glm::vec3(float(us(rng)) * P, float(us(rng)) * P, 0.0f);
+    const float pz = uz(rng), py = ux(rng), px = ux(rng);  // last first (validation/draw_order.h)
+    const glm::vec3 p(px, py, pz);
+    const float qy = float(us(rng)) * P, qx = float(us(rng)) * P;
+    const glm::vec3 q = p + glm::vec3(qx, qy, 0.0f);
     if (nearFace(p) || nearFace(q)) {
       ++skipped;
       continue;

@@ -29,6 +29,7 @@
 #include "reference/prt_multiple_scattering.h"
 #include "scene/fabric.h"
 #include "validation/case_support.h"
+#include "validation/draw_order.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -74,7 +75,7 @@ double langevin(double x) {
 }
 glm::dvec3 randomUnit(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
-  glm::dvec3 v(n(rng), n(rng), n(rng));
+  const glm::dvec3 v = drawVec3<glm::dvec3>(n, rng);
   return v / glm::length(v);
 }
 

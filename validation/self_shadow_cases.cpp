@@ -31,6 +31,7 @@
 #include "reference/self_shadow.h"
 #include "scene/yarn_density.h"
 #include "validation/case_support.h"
+#include "validation/draw_order.h"
 #include "validation/harness.h"
 #include "validation/self_shadow_oracle.h"
 
@@ -362,13 +363,14 @@ CaseResult runLookupCase(ValidationContext& ctx, const YarnPreset& preset, const
   const double s = b.density.supportRadius;
   const auto t0 = Clock::now();
   while (queries.size() < 500) {
-    const glm::dvec3 l(unit(rng), unit(rng), unit(rng));
+    const glm::dvec3 l = drawVec3<glm::dvec3>(unit, rng);
     const double len = glm::length(l);
     if (!(len <= 1.0 && len > 1e-3)) continue;
     const glm::dvec3 ell = l / len;  // (ℓ·N̂, ℓ·B̂, ℓ·T̂)
     const double perp = std::hypot(ell.x, ell.y);
     if (perp < 0.2) continue;
-    const glm::vec2 x(float(s * unit(rng)), float(s * unit(rng)));
+    const float xy = float(s * unit(rng)), xx = float(s * unit(rng));  // last first (validation/draw_order.h)
+    const glm::vec2 x(xx, xy);
     const float theta = float(4.0 * kPi * unit(rng));
     const glm::vec2 toLight(float(ell.x), float(ell.y));
     queries.push_back({x, toLight, theta});

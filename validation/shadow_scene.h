@@ -12,6 +12,7 @@
 #include "scene/default_scene.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_preset.h"
+#include "validation/draw_order.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -53,7 +54,7 @@ inline std::vector<glm::vec3> pointsInTubes(const ShadowTubes& tubes, float w, s
     const size_t k = std::min(size_t(u01(rng) * (line.size() - 1)), line.size() - 2);
     const glm::vec3 centre = glm::mix(line[k], line[k + 1], u01(rng));
     glm::vec3 o;
-    do o = glm::vec3(u01(rng), u01(rng), u01(rng)) * 2.0f - 1.0f;
+    do o = drawVec3<glm::vec3>(u01, rng) * 2.0f - 1.0f;
     while (glm::dot(o, o) > 1.0f);
     points.push_back(centre + 0.95f * w * o);
   }

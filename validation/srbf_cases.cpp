@@ -32,6 +32,7 @@
 #include "reference/srbf_table.h"
 #include "scene/fabric.h"
 #include "validation/case_support.h"
+#include "validation/draw_order.h"
 #include "validation/harness.h"
 #include "validation/srbf_oracle.h"
 
@@ -223,7 +224,7 @@ CaseResult runRepresentable(ValidationContext& ctx, const std::string& name) {
   const double l0 = lambda0();
   const std::vector<glm::dvec4> axes = oracleAxes(l0);
   std::vector<glm::dvec3> W(FT_SRBF_LOBES);
-  for (int j = 0; j < FT_SRBF_LOBES; ++j) W[size_t(j)] = j % 5 == 3 ? glm::dvec3(0.0) : glm::dvec3(u(rng), u(rng), u(rng));
+  for (int j = 0; j < FT_SRBF_LOBES; ++j) W[size_t(j)] = j % 5 == 3 ? glm::dvec3(0.0) : drawVec3<glm::dvec3>(u, rng);
   const glm::dvec3 dc(0.3, 0.2, 0.1);
   const ImageRgbaF env = makeMap(kMapW, kMapH, [&](glm::dvec3 w) {
     glm::dvec3 L = dc;

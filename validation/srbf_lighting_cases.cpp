@@ -39,6 +39,7 @@
 #include "scene/yarn_fibers.h"
 #include "validation/bcsdf_oracle.h"
 #include "validation/case_support.h"
+#include "validation/draw_order.h"
 #include "validation/ds_correction_oracle.h"
 #include "validation/harness.h"
 #include "validation/srbf_oracle.h"
@@ -79,8 +80,8 @@ struct OracleFrame {
 OracleFrame randomFrame(std::mt19937& rng) {
   std::normal_distribution<double> g;
   OracleFrame f;
-  f.t = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
-  glm::dvec3 a = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
+  f.t = glm::normalize(drawVec3<glm::dvec3>(g, rng));
+  glm::dvec3 a = glm::normalize(drawVec3<glm::dvec3>(g, rng));
   f.e1 = glm::normalize(a - glm::dot(a, f.t) * f.t);
   f.e2 = glm::cross(f.t, f.e1);
   return f;
@@ -129,11 +130,11 @@ CaseResult runFrameOracle(ValidationContext& ctx, const FabricPreset& fabric, co
   SrbfEnvironment lobes{};
   float trans[FT_SRBF_LOBES];
   for (int j = 0; j < FT_SRBF_LOBES; ++j) {
-    const glm::dvec3 mu = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
+    const glm::dvec3 mu = glm::normalize(drawVec3<glm::dvec3>(g, rng));
     const double lambda = 0.5 * std::pow(1024.0, u01(rng));
     lobes.lobes[j].axisLambda = glm::vec4(glm::vec3(mu), float(lambda));
     const bool zero = j % 5 == 3;
-    lobes.lobes[j].weight = zero ? glm::vec4(0.0f) : glm::vec4(float(u01(rng)), float(u01(rng)), float(u01(rng)), 0.0f);
+    lobes.lobes[j].weight = zero ? glm::vec4(0.0f) : glm::vec4(drawVec3<glm::vec3>(u01, rng), 0.0f);
     trans[j] = float(0.2 + 0.8 * u01(rng));
   }
   SrbfEnvironment dc{};
@@ -213,7 +214,7 @@ CaseResult runFrameOracle(ValidationContext& ctx, const FabricPreset& fabric, co
     std::normal_distribution<double> ln(0.0, 0.7);
     const auto fill = [&](std::vector<glm::vec4>& v, size_t n) {
       for (size_t i = 0; i < n; ++i)
-        v.push_back(glm::vec4(float(std::exp(ln(rng))), float(std::exp(ln(rng))), float(std::exp(ln(rng))), 0.0f));
+        v.push_back(glm::vec4(glm::exp(drawVec3<glm::dvec3>(ln, rng)), 0.0f));
     };
     fill(xt.xiM, 48), fill(xt.xiN, 48), fill(xt.psiM, 48), fill(xt.psiN, 48);
     std::vector<glm::vec4> encoded[4];
@@ -234,8 +235,9 @@ CaseResult runFrameOracle(ValidationContext& ctx, const FabricPreset& fabric, co
       const glm::dvec3 wo = f.dir(thetaO, phiO);
       const glm::dvec3 n = f.dir(0.0, 2.0 * kPi * u01(rng));
       // The yarn's tangent within 30° of the fiber's (a ply's helix angle).
-      const glm::dvec3 T = glm::normalize(f.t + 0.5 * u01(rng) * glm::normalize(f.e1 + g(rng) * f.e2));
-      const glm::dvec2 uv(u01(rng), u01(rng));
+      const double across = g(rng), lean = u01(rng);  // in the order GCC drew them (validation/draw_order.h)
+      const glm::dvec3 T = glm::normalize(f.t + 0.5 * lean * glm::normalize(f.e1 + across * f.e2));
+      const glm::dvec2 uv = drawVec2<glm::dvec2>(u01, rng);
       glm::dvec3 expect(0.0);
       for (int j = 0; j < FT_SRBF_LOBES; ++j) {
         const glm::dvec3 mu(glm::vec3(lobes.lobes[j].axisLambda));
