@@ -664,7 +664,7 @@ CaseResult runLookupCase(ValidationContext& ctx, const std::string& name) {
     // Random texels: the lookup does not care what the table holds, and
     // neighbours that differ make any offset visible.
     std::vector<glm::vec3> table(static_cast<size_t>(n));
-    for (glm::vec3& t : table) t = glm::vec3(float(unit(rng)), float(unit(rng)), float(unit(rng)));
+    for (glm::vec3& t : table) t = drawVec3<glm::vec3>(unit, rng);
     glm::dvec3 step(0.0);
     for (int k = 0; k + 1 < n; ++k)
       step = glm::max(step, glm::abs(glm::dvec3(table[size_t(k + 1)] - table[size_t(k)])));

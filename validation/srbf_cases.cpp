@@ -743,7 +743,10 @@ CaseResult runLookup(ValidationContext& ctx, const FabricPreset& f, const std::s
   std::mt19937 rng(15020);
   std::uniform_real_distribution<double> th(-1.5, 1.5), ph(-4.0, 4.0), ll(std::log(0.3), std::log(700.0));
   std::vector<glm::vec4> req;
-  for (int s = 0; s < 256; ++s) req.push_back(glm::vec4(float(th(rng)), float(th(rng)), float(ph(rng)), float(std::exp(ll(rng)))));
+  for (int s = 0; s < 256; ++s) {
+    const double l = ll(rng), p = ph(rng), th1 = th(rng), th0 = th(rng);  // last first (validation/draw_order.h)
+    req.push_back(glm::vec4(float(th0), float(th1), float(p), float(std::exp(l))));
+  }
   const auto t0 = Clock::now();
   const std::vector<glm::vec3> gpu = ctx.gpu<SrbfTableGpu>().lookup(table, d, req);
   r.gpuMilliseconds = msSince(t0);
