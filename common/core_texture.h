@@ -346,9 +346,13 @@ FT_FUNC CoreLookup ftCoreTextureLookup(uint width, uint height, float u, float v
   float x = fract(u) * float(width) - 0.5f;
   float fx = floor(x);
   l.w.x = x - fx;
+  // fx ∈ [−1, width − 1] (fract(u) < 1, and a product rounded up to width
+  // still floors to width − 1), so one wrap suffices: no integer division,
+  // which llvmpipe runs lane by lane. min() keeps a NaN u in the texture.
   int i0 = int(fx);
   if (i0 < 0) i0 += int(width);
-  l.i = uvec2(uint(i0) % width, uint(i0 + 1) % width);
+  uint i = min(uint(i0), width - 1u);
+  l.i = uvec2(i, i + 1u == width ? 0u : i + 1u);
   float y = clamp(v, 0.0f, 1.0f) * float(height) - 0.5f;
   float fy = floor(y);
   l.w.y = y - fy;

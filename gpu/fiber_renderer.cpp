@@ -103,9 +103,10 @@ FiberRenderer::FiberRenderer(const GlInfo& gl, std::vector<std::string> defines)
 
 FiberRenderer::~FiberRenderer() = default;
 
-GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass pass, bool pcss) {
+GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass pass, bool pcss, bool occlusionTest) {
   const bool shadedPass = pass != StripPass::PlainOccluders && pass != StripPass::CoreOccluders;
-  Program& p = programs_[path == FiberPath::Compute ? 0 : 1][int(pass)][pcss && shadedPass ? 1 : 0];
+  Program& p = programs_[path == FiberPath::Compute ? 0 : 1][int(pass)][pcss && shadedPass ? 1 : 0]
+                        [occlusionTest && shadedPass ? 1 : 0];
   if (!p) {
     FiberDrawStages stages = fibers.drawStages(path);
     stages.files.push_back("shaders/fiber_strip.geom.glsl");
@@ -120,6 +121,7 @@ GLuint FiberRenderer::program(const FiberGpu& fibers, FiberPath path, StripPass 
     if (pass == StripPass::PlainOccluders) defines.push_back("FT_OCCLUDER_PLAIN");
     if (pass == StripPass::Visibility) defines.push_back("FT_VISIBILITY_PASS");
     if (pcss && shadedPass) defines.push_back("FT_FRAME_PCSS");  // soft shadows: compiled out otherwise (llvmpipe runs all code)
+    if (occlusionTest && shadedPass) defines.push_back("FT_OCCLUSION_TEST");
     p = Program(buildProgram(stages.files, defines));
   }
   return p.id();
@@ -614,10 +616,11 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   const bool env = (inputs_.params.flags.w & FT_APPEARANCE_ENVIRONMENT) != 0u;
   // Soft shadows or lobe maps: the PCSS variant of the shaded pass.
   const bool pcss = (inputs_.params.flags.w & FT_APPEARANCE_SOFT_SHADOWS) != 0u || inputs_.lobeShadowEnvironment.has_value();
+  const bool cull = cullsView(fibers);
   const GLuint prog = program(fibers, path,
                               ds ? (env ? StripPass::ShadedDualScatteringEnvironment : StripPass::ShadedDualScattering)
                                  : (env ? StripPass::ShadedEnvironment : StripPass::Shaded),
-                              pcss);
+                              pcss, cull);
   phase(building, noCpu);  // a program's first build is not a phase of the frame
   frameCpu = cpu;
   if ((inputs_.params.flags.w & FT_APPEARANCE_SHADOW_MAP) != 0u &&
@@ -630,7 +633,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   if (timings) phase(timings->shadowMapMs, noCpu);
   fibers.prepareDraw(path);
   if (timings) phase(timings->generateMs, noCpu);
-  if (cullsView(fibers)) drawOccluders(fibers, path, width, height);
+  if (cull) drawOccluders(fibers, path, width, height);
   else bindOcclusion(false);
   if (timings) phase(timings->depthMs, timings->depthCpuMs);
   // 32-bit float: the ground-truth comparison needs more than half's 11 bits.
@@ -639,7 +642,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   shadedTarget_->begin(glm::vec4(glm::vec3(inputs_.params.background), 0.0f));
   bindShading();
   if (deferred_) {
-    drawDeferred(fibers, path, ds, env, pcss, timings);
+    drawDeferred(fibers, path, ds, env, pcss, cull, timings);
     t = std::chrono::steady_clock::now();
     if (timings) cpu = processCpuMs();
   } else {
@@ -659,7 +662,7 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
 // fragment costs the whole fragment shader (docs/llvmpipe-notes.md), so the
 // shading moves out of it. Called with the shaded target bound and cleared;
 // leaves it bound with the colour of every sample the fibers won written.
-void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss,
+void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss, bool cull,
                                  FrameTimings* timings) {
   const int width = shadedTarget_->width, height = shadedTarget_->height;
   if (!deferredTarget_ || deferredTarget_->width != width || deferredTarget_->height != height)
@@ -672,7 +675,7 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   glBindFramebuffer(GL_FRAMEBUFFER, dt.fbo.id());
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glClearNamedFramebufferfv(dt.fbo.id(), GL_COLOR, k, zero);
-  const GLuint vis = program(fibers, path, StripPass::Visibility);
+  const GLuint vis = program(fibers, path, StripPass::Visibility, false, cull);
   setUniform(vis, "shaded", 1u);
   drawCounted(fibers, path, vis, timings);
   if (timings) {

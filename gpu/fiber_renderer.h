@@ -167,7 +167,12 @@ class FiberRenderer {
     Visibility  // deferred shading's visibility pass (FT_VISIBILITY_PASS)
   };
   // pcss: the shaded passes with FT_FRAME_PCSS (soft shadows, the lobe maps).
-  GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded, bool pcss = false);
+  // occlusionTest: the shaded passes with FT_OCCLUSION_TEST (the geometry and
+  // fragment stages' tests against the occluders' depth pyramid), for the
+  // frames that draw occluders; without, the tests are compiled out, since
+  // llvmpipe runs them anyway (7 % of the whole glove's visibility pass).
+  GLuint program(const FiberGpu& fibers, FiberPath path, StripPass pass = StripPass::Shaded, bool pcss = false,
+                 bool occlusionTest = false);
   void uploadPcss();
   void bindShading() const;
   // The occluder pass and its depth pyramid into occlusionTexels_; binds the
@@ -176,9 +181,9 @@ class FiberRenderer {
   void bindOcclusion(bool enabled);
 
   std::vector<std::string> defines_;
-  Program programs_[2][7][2];  // [path][StripPass][FT_FRAME_PCSS]
+  Program programs_[2][7][2][2];  // [path][StripPass][FT_FRAME_PCSS][FT_OCCLUSION_TEST]
   // Deferred shading: the visibility pass into the hit records, then these.
-  void drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss, FrameTimings* timings);
+  void drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss, bool cull, FrameTimings* timings);
   bool deferred_ = true;
   size_t deferredEntries_ = 0;
   Program compactProgram_, resolveProgram_;

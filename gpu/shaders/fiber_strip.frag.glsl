@@ -109,7 +109,9 @@ layout(location = 13) flat in vec3 lineYarnN1;
 layout(location = 14) flat in vec3 lineYarnB0;
 layout(location = 15) flat in vec3 lineYarnB1;
 layout(location = 16) flat in uint lineCurve;
+#ifdef FT_OCCLUSION_TEST
 layout(location = 17) flat in float lineNearestDepth;
+#endif
 // The rectangle point on this fragment's eye ray (pixel centre), and on the
 // eye ray through multisample position i.
 #ifdef FT_FAULT_STRIP_WORLD_ABSOLUTE
@@ -382,7 +384,8 @@ bool applyCoreTexture(inout FiberHit h) {
   // shaded pass's hit, from another ray origin, may round to a neighbour.
   for (int dj = -1; dj <= 1; ++dj)
     for (int di = -1; di <= 1; ++di) {
-      uint i = (ni + coreTexture.width + uint(di + 1) - 1u) % coreTexture.width;
+      // u wraps; a select, not %: llvmpipe divides lane by lane.
+      uint i = di < 0 ? (ni == 0u ? coreTexture.width : ni) - 1u : (di > 0 && ni + 1u == coreTexture.width ? 0u : ni + uint(di));
       uint j = uint(clamp(int(nj) + dj, 0, int(coreTexture.height) - 1));
       if (coreTexel0(i, j).x <= 0.0) return false;
     }
@@ -689,10 +692,14 @@ void main() {
 #endif
 #endif
   // Behind the occluders at every sample of this pixel: the depth test would
-  // reject it, so skip the ray casts and the shading.
+  // reject it, so skip the ray casts and the shading (on a GPU that skips
+  // discarded work; llvmpipe runs on, docs/llvmpipe-notes.md). Compiled in
+  // only for frames with occluders (FiberRenderer::program).
+#ifdef FT_OCCLUSION_TEST
   if (pyramid.size.w != 0u &&
       lineNearestDepth > occlusionTexels[ftOcclusionIndex(pyramid, 0u, uint(gl_FragCoord.x), uint(gl_FragCoord.y))])
     discard;
+#endif
   // Coverage: the capsule tested at each multisample position (the rectangle
   // point there lies on that sample's eye ray), so a fiber thinner than a
   // pixel keeps the 4× coverage a plain strip had. Shading: once, at the

@@ -56,7 +56,9 @@ layout(location = 13) flat out vec3 lineYarnN1;
 layout(location = 14) flat out vec3 lineYarnB0;
 layout(location = 15) flat out vec3 lineYarnB1;
 layout(location = 16) flat out uint lineCurve;
+#ifdef FT_OCCLUSION_TEST
 layout(location = 17) flat out float lineNearestDepth;  // no point of the line's capsule is nearer (window depth)
+#endif
 
 // Any unit vector ⟂ e.
 vec3 anyPerpendicular(vec3 e) {
@@ -160,6 +162,7 @@ void main() {
 #endif
   vec4 clip[4];
   for (int i = 0; i < 4; ++i) clip[i] = view.viewProj * vec4(corners[i], 1.0);
+#ifdef FT_OCCLUSION_TEST
   if (pyramid.size.w != 0u && clip[0].w > 0.0 && clip[1].w > 0.0 && clip[2].w > 0.0 && clip[3].w > 0.0) {
     vec2 lo = vec2(3.0e38), hi = vec2(-3.0e38);
     for (int i = 0; i < 4; ++i) {
@@ -177,6 +180,7 @@ void main() {
       if (nearest > deepest) return;  // behind the occluders at every pixel it could cover
     }
   }
+#endif
 #ifdef FT_OCCLUDER_PASS
   const int vertices = 4;
 #else
@@ -232,7 +236,9 @@ void main() {
     lineYarnB0 = yarnBinormal[0];
     lineYarnB1 = yarnBinormal[1];
     lineCurve = fiberId[0].x;
+#ifdef FT_OCCLUSION_TEST
     lineNearestDepth = nearest;
+#endif
     gl_Position = clip[i];
     EmitVertex();
   }
