@@ -264,8 +264,9 @@ TEST(Bcsdf, LobeNormTableLookupMatchesBruteForce) {
         const double want = zBrute(double(t), betas[c]);
         worst = std::max(worst, relError(got[c], want));
         EXPECT_EQ(got[c], mirrored[c]) << f.name << " θ_i " << t;
-        if (std::abs(double(t)) + 6.0 * betas[c] < 0.5 * kPi - 1e-6)  // below the window: the closed form
+        if (std::abs(double(t)) + 6.0 * betas[c] < 0.5 * kPi - 1e-6) {  // below the window: the closed form
           EXPECT_EQ(got[c], ftLongitudinalNorm(t, float(betas[c]))) << f.name << " θ_i " << t;
+        }
       }
     }
   }

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "reference/core_texture.h"
 #include "scene/core_texture_input.h"
@@ -179,6 +180,27 @@ TEST(core_texture, LookupWrapsInUAndClampsInV) {
   l = ftCoreTextureLookup(8, 4, 0.3f, 1.0f);
   EXPECT_EQ(l.j.x, 3u);
   EXPECT_EQ(l.j.y, 3u);
+}
+
+// The lookup wraps u with one select (no integer remainder: llvmpipe divides
+// lane by lane); the columns must be those of the remainder's definition,
+// written here, for every u, at widths that are and are not powers of two.
+TEST(core_texture, LookupColumnsAreTheRemainderWrap) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(-3.0f, 3.0f);
+  for (uint32_t width : {1u, 2u, 7u, 8u, 61u, 64u, 1000u}) {
+    std::vector<float> us = {0.0f, -0.0f, 1.0f, -1e-9f, 1e-9f, std::nextafter(1.0f, 0.0f), -std::nextafter(1.0f, 0.0f),
+                             0.5f / float(width), 1.0f - 0.5f / float(width)};
+    for (int k = 0; k < 2000; ++k) us.push_back(unit(rng));
+    for (float u : us) {
+      const float x = (u - std::floor(u)) * float(width) - 0.5f;
+      const int i0 = int(std::floor(x));
+      const uint32_t expected0 = uint32_t((i0 % int(width) + int(width)) % int(width));
+      const CoreLookup l = ftCoreTextureLookup(width, 4, u, 0.5f);
+      EXPECT_EQ(l.i.x, expected0) << "width " << width << ", u " << u;
+      EXPECT_EQ(l.i.y, (expected0 + 1u) % width) << "width " << width << ", u " << u;
+    }
+  }
 }
 
 TEST(core_texture, SamplingReturnsTexelsAtCentresAndWrapsInU) {

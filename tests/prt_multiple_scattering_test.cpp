@@ -418,8 +418,11 @@ TEST(IirtfBake, SameBytesForAnyThreadCountAndTheReaderReadsIt) {
     EXPECT_EQ(f.transfer.size(), f.cells * kIirtfMatrixSize);
     EXPECT_EQ(f.version, 2);
     ASSERT_EQ(f.stdError.size(), f.transfer.size());
-    for (size_t i = 0; i < f.stdError.size(); ++i)
-      if (f.transfer[i] != 0.0f) ASSERT_GT(f.stdError[i], 0.0f) << "entry " << i;  // a non-zero mean of ≥ 2 paths varies
+    for (size_t i = 0; i < f.stdError.size(); ++i) {
+      if (f.transfer[i] != 0.0f) {
+        ASSERT_GT(f.stdError[i], 0.0f) << "entry " << i;  // a non-zero mean of ≥ 2 paths varies
+      }
+    }
     EXPECT_EQ(f.header["relative_noise_by_band"].size(), size_t(FT_SH_BANDS));
     EXPECT_GT(f.header.value("mean_free_path", 0.0), 0.0);
     {  // A version 1 file (no stderr section) reads with no noise estimate; an unknown version is refused by name.
