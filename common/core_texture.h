@@ -347,9 +347,9 @@ FT_FUNC CoreLookup ftCoreTextureLookup(uint width, uint height, float u, float v
   float fx = floor(x);
   l.w.x = x - fx;
   // fx ∈ [−1, width − 1] (fract(u) ≤ 1 — x − floor(x) rounds to 1 for a
-  // tiny negative u — and width − 0.5 floors to width − 1), so one wrap suffices: no integer division,
-  // which llvmpipe runs lane by lane. min() keeps the column inside the
-  // texture whatever a GPU's int() makes of a NaN u.
+  // tiny negative u — and width − 0.5 floors to width − 1), so one wrap
+  // suffices: no integer division, which llvmpipe runs lane by lane. min()
+  // keeps the column inside the texture whatever a GPU's int() makes of a NaN u.
   int i0 = int(fx);
   if (i0 < 0) i0 += int(width);
   uint i = min(uint(i0), width - 1u);
