@@ -68,6 +68,9 @@
 #define FT_SSBO_OCCLUSION 37       // float[ftOcclusionTexelCount]: max window depth per texel, all levels
 #define FT_TEX_OCCLUDER_DEPTH 0    // sampler2DMS: the occluder pass's depth (pyramid level 0 reads it)
 #define FT_WG_OCCLUSION 8          // 8 × 8 texels per work group
+// Harness read-back of a multisampled depth texture, sample by sample, in a
+// program of its own (like the layout probe, whose slot it shares).
+#define FT_SSBO_SAMPLE_DEPTHS FT_SSBO_LAYOUT_PROBE
 
 // Deferred shading of the frame (FiberRenderer::drawDeferred, docs/shaded-frame.md):
 // the visibility pass's hit records (FT_VISIBILITY_TARGETS 4× multisampled

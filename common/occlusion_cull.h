@@ -9,9 +9,11 @@
 // pixels.
 //
 // How: an occluder pass rasterises, for each line, a rectangle every eye ray
-// through which surely hits the capsule (half as wide as the thinner end,
-// between the ends), pushed back along the eye rays by the line's radius: the
-// depth written is never nearer than the capsule's hit there. A max-depth
+// through which surely hits the capsule (FT_OCCLUDER_WIDTH of the thinner
+// end's radius on either side of the axis, between the ends), pushed back
+// along the eye rays (by twice the radius and the depth's change over a pixel,
+// fiber_strip.geom.glsl): the depth written is never nearer than the depth
+// the visibility pass writes at that sample. A max-depth
 // pyramid of it (level 0: the max over a pixel's samples; level k: the max of
 // 2×2 texels of level k−1) then bounds what is visible. A line whose nearest
 // possible depth (its nearest end moved towards the eye by its radius) lies
@@ -30,6 +32,19 @@
 #include "view_params.h"
 
 #define FT_OCCLUSION_MAX_LEVELS 16
+// The occluder's half-width as a fraction of the line's thinner radius. It was
+// ½ until the two ways an occluder sample could claim more than the frame
+// draws were found (a grazing shading ray that misses, one depth per
+// fragment; docs/shaded-frame.md "Wider occluders"); at 0.9 the close-up culls
+// more (−13 % of its CPU). The rest of the radius is the margin for float
+// rounding of the sample rays (0.01 px, shading/strip-rays/*).
+#define FT_OCCLUDER_WIDTH 0.9
+// ... for the core strips with the core-fiber texture, whose occluder keeps a
+// pixel by one ray's hole test through a 5 % thinner capsule (and its 3 × 3
+// texels): farther from the axis that ray's hit and the shaded pass's part
+// by more texels, so these stay at ½ (at 0.9, 7 samples of the whole glove
+// were claimed over holes).
+#define FT_CORE_OCCLUDER_WIDTH 0.5
 
 FT_NAMESPACE_BEGIN
 

@@ -539,6 +539,47 @@ double FiberRenderer::occludedFraction() const {
   return double(occluded) / double(level0.size());
 }
 
+std::vector<float> FiberRenderer::readSampleDepths(GLuint texture, int width, int height) const {
+  if (!sampleDepthProgram_)
+    sampleDepthProgram_ = Program(buildProgram({"shaders/sample_depth_read.comp.glsl"}, defines_));
+  const GLuint prog = sampleDepthProgram_.id();
+  const size_t count = size_t(width) * height * 4;
+  Buffer out = makeBuffer(count * sizeof(float), nullptr);
+  glUseProgram(prog);
+  glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, texture);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLE_DEPTHS, out.id());
+  setUniform(prog, "width", uint32_t(width));
+  setUniform(prog, "height", uint32_t(height));
+  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  glDispatchCompute((width + FT_WG_OCCLUSION - 1) / FT_WG_OCCLUSION, (height + FT_WG_OCCLUSION - 1) / FT_WG_OCCLUSION, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLE_DEPTHS, 0);
+  std::vector<float> depths(count);
+  glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(count * sizeof(float)), depths.data());
+  return depths;
+}
+
+std::vector<float> FiberRenderer::readOccluderSampleDepths() const {
+  if (occluderWidth_ == 0) return {};
+  return readSampleDepths(occluderDepth_.id(), occluderWidth_, occluderHeight_);
+}
+
+std::vector<float> FiberRenderer::readFrameSampleDepths() const {
+  if (!shadedTarget_) return {};
+  // The shaded target's depth is a renderbuffer: copied sample for sample
+  // (same size, sample count and format) into a texture the compute stage reads.
+  const int w = shadedTarget_->width, h = shadedTarget_->height;
+  GLuint tex = 0;
+  glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
+  const Texture copy(tex);
+  glTextureStorage2DMultisample(tex, 4, GL_DEPTH_COMPONENT24, w, h, GL_TRUE);
+  const Framebuffer fbo = Framebuffer::create();
+  glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, tex, 0);
+  glBlitNamedFramebuffer(shadedTarget_->ms.id(), fbo.id(), 0, 0, w, h, 0, 0, w, h, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+  return readSampleDepths(tex, w, h);
+}
+
 bool FiberRenderer::cullsView(const FiberGpu& fibers) const {
   if (occlusionCull_ != OcclusionCull::Auto) return occlusionCull_ == OcclusionCull::On;
   // Auto: cull unless the whole model is in view (the control points' bounds

@@ -95,6 +95,14 @@ class FiberRenderer {
   // The share of the last culled frame's pixels that an occluder covers at
   // every sample (pyramid level 0 below the far plane); 0 before one.
   double occludedFraction() const;
+  // Window depths per sample (width × height × 4, rows bottom-up, a pixel's
+  // samples together) of the last culled frame's occluder pass, and of the
+  // last shaded frame's depth buffer: what the visibility pass drew. The
+  // culling is exact only if no occluder sample is nearer than the frame's
+  // depth there (validation/occlusion_cull_cases.cpp compares them). Empty
+  // before such a frame.
+  std::vector<float> readOccluderSampleDepths() const;
+  std::vector<float> readFrameSampleDepths() const;
   // Deferred shading (on by default; docs/shaded-frame.md): a visibility pass
   // writes each fragment's hit instead of shading it, a compute pass lists
   // each pixel's distinct hits, and only those are shaded (the forward pass's
@@ -193,6 +201,8 @@ class FiberRenderer {
   // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
   OcclusionCull occlusionCull_ = OcclusionCull::Auto;
   Program pyramidProgram_;
+  mutable Program sampleDepthProgram_;  // sample_depth_read.comp.glsl (harness read-back)
+  std::vector<float> readSampleDepths(GLuint multisampleDepthTexture, int width, int height) const;
   Texture occluderDepth_;
   Framebuffer occluderFbo_;
   int occluderWidth_ = 0, occluderHeight_ = 0;

@@ -243,8 +243,9 @@ RULES = [
     (r"yarn_density", "^(selfshadow|ao)/", ["yarn_density_test", "self_shadow_test", "ambient_occlusion_test"]),
     # The BCSDF and its tables: its cases (oracle included), the shading cases, its unit test.
     (r"bcsdf", "^(bcsdf|shading)/", ["bcsdf_test", "fiber_trace_test"]),
-    # Occlusion culling (common/occlusion_cull.h, the pyramid kernel): the frame with and without it.
-    (r"occlusion_(cull|pyramid)", "^shading/occlusion-cull/", ["occlusion_cull_test"]),
+    # Occlusion culling (common/occlusion_cull.h, the pyramid kernel, the per-sample depth read-back):
+    # the frame with and without it, and the occluders against the frame sample by sample.
+    (r"occlusion_(cull|pyramid)|sample_depth_read", "^shading/occlusion-cull/", ["occlusion_cull_test"]),
     # The shaded frame: fragment shading, the renderer, the shading inputs, the ground truth.
     (r"fiber_shading\.h|fiber_strip\.(frag|geom)|fiber_renderer|shading_inputs|fiber_trace|lighting\.cpp|fabric\.cpp",
      "^(shading|appearance|closeup)/|strip-width", ["fiber_trace_test", "bcsdf_test"]),

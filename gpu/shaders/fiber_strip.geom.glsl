@@ -126,11 +126,18 @@ void main() {
                             q[1] + ext[1] * along - R * across, q[1] + ext[1] * along + R * across);
 #ifdef FT_OCCLUDER_PASS
   // Every eye ray through the part of the rectangle between the ends and
-  // within half the thinner end's radius of the axis passes the axis within
-  // half a radius, so it hits the capsule. Its corners go back along their
-  // eye rays to the view depth of their end plus twice its radius: no point
-  // of the capsule, nor the core-fiber texture's surface (at most √2 radii
-  // off the axis), is that deep. The fragment stage removes the core
+  // within k of the thinner end's radius of the axis (k: FT_OCCLUDER_WIDTH,
+  // 0.9, for plain lines; FT_CORE_OCCLUDER_WIDTH, ½, for textured cores)
+  // passes the axis within k radii, so it hits the capsule (the fragment
+  // stage never shades such a pixel through a grazing ray, which could miss). Its corners go back along
+  // their eye rays to the view depth of their end plus twice its radius (no
+  // point of the capsule, nor the core-fiber texture's surface, is deeper at
+  // that end) plus how far the axis's depth moves over a pixel along the line:
+  // the visibility pass writes one depth per fragment, its shading ray's, which
+  // may lie up to 0.8 px from the sample (the farthest two of the pixel centre
+  // and the four sample positions). 1/z is affine along the line's projection,
+  // so over 1 px of its L px the depth moves at most |z1 − z0| · (z_max / z_min) / L,
+  // and never more than |z1 − z0|. The fragment stage removes the core
   // texture's holes.
   vec3 forward = ftViewForward(view);
   if (dot(forward, forward) == 0.0) return;  // not a perspective view: no occluders
@@ -141,7 +148,15 @@ void main() {
 #else
   if (type0 != FT_FIBER_CORE) return;
 #endif
-  float inner = 0.5 * min(w.x, w.y) * planeDepth / max(dot(eye - p0, e), dot(eye - p1, e));
+#ifdef FT_OCCLUDER_PLAIN
+  const float widthFraction = FT_OCCLUDER_WIDTH;
+#else
+  const float widthFraction = FT_CORE_OCCLUDER_WIDTH;
+#endif
+  float inner = widthFraction * min(w.x, w.y) * planeDepth / max(dot(eye - p0, e), dot(eye - p1, e));
+  float z0 = dot(p0 - eye, forward), z1 = dot(p1 - eye, forward);
+  float lengthPx = length(q[1] - q[0]) * view.cameraPos.w / planeDepth;
+  float slopePush = abs(z1 - z0) * min(1.0, max(z0, z1) / max(min(z0, z1), 1e-30) / max(lengthPx, 1e-30));
   for (int i = 0; i < 4; ++i) {
     int end = i / 2;
     corners[i] = q[end] + ((i & 1) == 0 ? -inner : inner) * across;
@@ -149,8 +164,10 @@ void main() {
     if (!(cornerDepth > 0.0)) return;  // a corner at or behind the eye: no occluder
 #ifdef FT_FAULT_OCCLUDER_NOT_PUSHED
     float push = 0.0;  // the occluder left at its end's axis depth: nearer than the capsule's side
+#elif defined(FT_FAULT_OCCLUDER_NO_SLOPE_PUSH)
+    float push = 2.0 * w[end];  // the depth's change over the fragment's pixel forgotten
 #else
-    float push = 2.0 * w[end];
+    float push = 2.0 * w[end] + slopePush;
 #endif
     corners[i] = eye + (corners[i] - eye) * ((dot((end == 0 ? p0 : p1) - eye, forward) + push) / cornerDepth);
   }

@@ -1,0 +1,16 @@
+// Copies a 4× multisampled depth texture into a float buffer, sample by
+// sample (FiberRenderer::readSampleDepths): GL reads no multisampled image
+// back directly. For the harness's check that the occluder pass never claims
+// a sample nearer than the frame draws it (validation/occlusion_cull_cases.cpp).
+#include "common/constants.h"
+
+layout(local_size_x = FT_WG_OCCLUSION, local_size_y = FT_WG_OCCLUSION) in;
+layout(std430, binding = FT_SSBO_SAMPLE_DEPTHS) writeonly buffer SampleDepths { float sampleDepths[]; };
+layout(binding = FT_TEX_OCCLUDER_DEPTH) uniform sampler2DMS depthSamples;
+uniform uint width, height;
+
+void main() {
+  uvec2 p = gl_GlobalInvocationID.xy;
+  if (p.x >= width || p.y >= height) return;
+  for (int s = 0; s < 4; ++s) sampleDepths[(p.y * width + p.x) * 4u + uint(s)] = texelFetch(depthSamples, ivec2(p), s).r;
+}
