@@ -17,6 +17,12 @@
 // positions, as the geometry stage once did, put the glove close-up's points
 // a median 0.06 px and up to 0.33 px off (docs/shaded-frame.md); the planted
 // fault strip-world-absolute brings that back, and this case must catch it.
+// The probe also sweeps, at each fragment, rays across the capsule's outline
+// and across the coverage test's own bound (0.9995 of the radius): no ray the
+// coverage test accepts may miss castCapsule, whose quadratic rounds
+// otherwise at the outline — a miss through the shading ray dropped the whole
+// fragment (docs/shaded-frame.md, "Wider occluders"). The planted fault
+// coverage-no-margin (coverage to the full radius) must fail it.
 //
 // shading/strip-shape/<view>/<path>: a line shorter than 1.5x its width and
 // under 8 px wide is drawn as one triangle that contains its rectangle
@@ -116,14 +122,15 @@ CaseResult runStripRays(ValidationContext& ctx, const std::string& view, bool te
   // fiber won one (background 0); divided by the coverage, the mean over the
   // fragments that won them.
   std::vector<double> samples, centres;
-  size_t nonFinite = 0;
+  size_t nonFinite = 0, grazingMisses = 0;
   for (size_t p = 0; p < image.pixelCount(); ++p) {
     const float* c = image.pixels.data() + 4 * p;
-    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[3])) {
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]) || !std::isfinite(c[3])) {
       ++nonFinite;
       continue;
     }
     if (c[3] <= 0.0f) continue;
+    grazingMisses += c[2] > 0.0f;
     samples.push_back(double(c[0]) / c[3]);
     centres.push_back(double(c[1]) / c[3]);
   }
@@ -139,12 +146,16 @@ CaseResult runStripRays(ValidationContext& ctx, const std::string& view, bool te
              "the worst pixel: a point 1/16 px off moves coverage and hit by 1/16 px"},
       Metric{"centre.max_px", centreMax, kMaxPx, "px", "the pixel centre's ray point, likewise"},
       Metric{"rays.median_px", sampleMedian, 0.0, "px", "median over covered pixels", false},
+      Metric{"rays.grazing_misses", double(grazingMisses), 0.0, "pixels",
+             "pixels whose fragment has a ray swept across the outline that the coverage test accepts and the "
+             "cast misses (such a shading ray dropped the fragment)"},
       Metric{"covered.short", double(samples.size() < kMinCovered ? kMinCovered - samples.size() : 0), 0.0, "pixels",
              fmt::format("at least {} covered pixels (else the statistics are empty)", kMinCovered)},
   };
   r.details = fmt::format("{} covered pixels; model centre moved to ({:.3g}, {:.3g}, {:.3g}); sample rays median {:.2e} "
-                          "/ p99 {:.2e} / max {:.2e} px, centre max {:.2e} px",
-                          samples.size(), target.x, target.y, target.z, sampleMedian, sampleP99, sampleMax, centreMax);
+                          "/ p99 {:.2e} / max {:.2e} px, centre max {:.2e} px; {} pixels with a grazing miss",
+                          samples.size(), target.x, target.y, target.z, sampleMedian, sampleP99, sampleMax, centreMax,
+                          grazingMisses);
   r.finish();
   return r;
 }

@@ -272,8 +272,42 @@ bool capsuleCovers(vec3 o) {
   // "Wider occluders"). The margin is ~100 times the two formulas'
   // disagreement found at such a ray (8e-6 of r²), so any ray this test
   // accepts hits.
+#ifdef FT_FAULT_COVERAGE_NO_MARGIN
+  return dot(across, across) <= r * r;  // to the full radius: a grazing ray can pass and miss the cast
+#else
   return dot(across, across) <= 0.999 * (r * r);
+#endif
 }
+#ifdef FT_STRIP_RAY_PROBE
+// Probe (validation/strip_impostor_cases.cpp): rays swept across the two
+// radii where the coverage test is weakest — its own bound √0.999 r and the
+// capsule's outline r — in steps of 4e-6 r, by moving o across its ray
+// (first order: the ray's closest point moves by the step times its distance
+// over o's). Returns how many the coverage test accepts and castCapsule
+// misses: none, or some fragment loses its samples.
+float probeGrazingMisses(vec3 o) {
+  vec3 eye = view.cameraPos.xyz;
+  vec3 d = o - eye, axis = lineP1 - lineP0, w = o - lineP0;
+  float a = dot(d, d), b = dot(d, axis), c = dot(axis, axis), e = dot(axis, w), f = dot(d, w);
+  float den = a * c - b * b;
+  if (!(den > 1e-12 * a * c)) return 0.0;
+  float u = clamp((a * e - b * f) / den, 0.0, 1.0);
+  vec3 q = w - u * axis;
+  vec3 across = q - (dot(q, d) / a) * d;
+  float len = length(across);
+  if (!(len > 0.0)) return 0.0;
+  float r = FT_COVERAGE_SCALE * mix(lineHalfWidth.x, lineHalfWidth.y, u);
+  float reach = dot(lineP0 + u * axis - eye, d) / a;  // the closest point's distance along the ray, over o's
+  float misses = 0.0;
+  for (int k = 0; k < 66; ++k) {
+    float target = r * ((k < 33 ? sqrt(0.999) : 1.0) + float(k % 33 - 16) * 4e-6);
+    vec3 ok = o + ((target - len) / max(reach, 1e-6)) * (across / len);
+    FiberHit hk;
+    if (capsuleCovers(ok) && !castCapsule(ok, hk)) misses += 1.0;
+  }
+  return misses;
+}
+#endif
 #endif  // FT_DEFERRED_SHADE
 
 float selfShadowTexel(uint i, uint j, uint k) { return selfShadowTexels[ftSelfShadowIndex(selfShadow, i, j, k)]; }
@@ -751,11 +785,12 @@ void main() {
   // Deferred: the hit, shaded later by fiber_shade.comp.glsl.
   ftPackHit(h, stripType, hitRecord);
 #elif defined(FT_STRIP_RAY_PROBE)
-  // Red: the worst multisample ray's point; green: the pixel centre's.
+  // Red: the worst multisample ray's point; green: the pixel centre's;
+  // blue: rays at the outline the coverage test accepts and the cast misses.
   float worst = 0.0;
   for (int i = 0; i < min(gl_NumSamples, 4); ++i)
     worst = max(worst, distance(probeWindow(stripWorldAtSample(i)), floor(gl_FragCoord.xy) + probeSamplePositions[i]));
-  color = vec4(worst, distance(probeWindow(stripWorld), gl_FragCoord.xy), 0.0, 1.0);
+  color = vec4(worst, distance(probeWindow(stripWorld), gl_FragCoord.xy), probeGrazingMisses(stripWorld), 1.0);
 #else
   if (shaded != 0u) {
     color = vec4(shadeFiberOfType(h, stripType), 1.0);
