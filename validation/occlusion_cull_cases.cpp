@@ -16,7 +16,7 @@
 // lies behind the deepest occluder sample over its whole rectangle, with a
 // margin, so an occluder sample that claims a depth nearer than what the
 // frame draws there stays harmless until the margins run out (two such
-// errors hid that way for months: docs/shaded-frame.md, "Wider occluders").
+// errors hid that way from the start: docs/shaded-frame.md, "Wider occluders").
 // So the case also compares, sample by sample, the occluder pass's depth
 // with the unculled frame's depth buffer: the culling is exact when no
 // occluder sample is nearer than the frame (a line that would win a sample
