@@ -2,7 +2,9 @@
 // the shared BCSDF per directional light plus the ambient table, common/
 // fiber_shading.h) on both GPU paths, at the three standard LoD distances, at
 // 1280×960 (000 Table 1's viewport):
-//   BM_ShadedCompute/{near,mid,far}       compute passes + indirect strip draw;
+//   BM_ShadedCompute/{near,mid,far}       compute passes + indirect strip draw
+//                                         (repeated frames: two-pass culling from the
+//                                         second on, FiberRenderer::setTwoPassCull);
 //   BM_ShadedTessellation/{near,mid,far}  one instanced tessellated draw;
 //   BM_PreviewCompute/{near,mid,far}      the same draw with the preview shading,
 //                                         so the BCSDF's own share can be read off;
@@ -19,7 +21,14 @@
 //                                         chosen per view (FiberRenderer::OcclusionCull::Auto,
 //                                         the default) and deferred shading (the default);
 //                                         counter culled = the choice;
-//   BM_ShadedComputeCull/{frame,closeup}   the same, always culled;
+//                                         a frame after another of the same view, so
+//                                         two-pass culling (the strips the last frame
+//                                         saw first, FiberRenderer::setTwoPassCull);
+//   BM_ShadedComputeOnePass/{frame,closeup} the same without two-pass culling (every
+//                                         frame a first frame);
+//   BM_ShadedComputeOrbit/{frame,closeup}  frames while the camera orbits by 2° per
+//                                         frame: two-pass culling from another view's strips;
+//   BM_ShadedComputeCull/{frame,closeup}   the same, always the occluder pass;
 //   BM_ShadedComputeNoCull/{frame,closeup} the same, never culled (same frame);
 //   BM_ShadedComputeForward/{frame,closeup} culled, shaded in the fragment stage
 //                                         (render --forward; same frame);
@@ -58,6 +67,8 @@
 // --shadow-map=0 (the yarn shadow map likewise), --shadow-map-size=N (2048).
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -158,11 +169,13 @@ double loadAverage() {
 }
 
 void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, ft::FiberRenderer::OcclusionCull mode,
-                   bool deferred) {
+                   bool deferred, bool twoPass) {
   g->gpu->setParams(g->fibers.params, *view);
   g->renderer->setOcclusionCull(mode);
   const bool cull = g->renderer->cullsView(*g->gpu);
   g->renderer->setDeferred(deferred);
+  g->renderer->setTwoPassCull(twoPass);
+  g->renderer->forgetVisibility();  // the warm-up is a first frame
   g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);  // warm-up
   glFinish();
   double cpuMs = 0.0;
@@ -176,9 +189,13 @@ void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, ft::Fibe
   // CPU time of all threads per frame: the work, steadier than wall time
   // when other jobs share the cores (ideal wall time on n idle cores ≈ cpu_ms / n).
   state.counters["cpu_ms"] = cpuMs / double(std::max<int64_t>(1, state.iterations()));
-  if (cull) {
+  if (cull || twoPass) {
     ft::FrameTimings t;
     g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height, &t);
+    if (t.twoPass) {  // triangles of the first draw (the strips the last frame saw) and of both
+      state.counters["first_draw_primitives"] = double(t.firstDrawPrimitives);
+      state.counters["primitives"] = double(t.shadePrimitives);
+    }
     state.counters["shadow_map_ms"] = t.shadowMapMs;
     state.counters["generate_ms"] = t.generateMs;
     state.counters["occluder_pass_ms"] = t.depthMs;
@@ -190,9 +207,56 @@ void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, ft::Fibe
     state.counters["occluded_fraction"] = g->renderer->occludedFraction();
   }
   state.counters["culled"] = cull ? 1.0 : 0.0;
+  state.counters["two_pass"] = twoPass ? 1.0 : 0.0;
   state.counters["load1"] = loadAverage();
   g->renderer->setOcclusionCull(ft::FiberRenderer::OcclusionCull::Auto);
   g->renderer->setDeferred(true);
+  g->renderer->setTwoPassCull(true);
+}
+
+// A named view's frames while the camera orbits the target about the up axis
+// by kOrbitStepDegrees per frame (an interactive user's drag), as render
+// draws them: each frame's two-pass culling starts from the strips the
+// previous frame, from another angle, saw. The static views above reuse the
+// same view's strips, the best case; this is the common one.
+constexpr float kOrbitStepDegrees = 2.0f;
+
+void BM_OrbitFrame(benchmark::State& state, const ft::Camera* camera) {
+  g->renderer->setOcclusionCull(ft::FiberRenderer::OcclusionCull::Auto);
+  g->renderer->forgetVisibility();
+  int frame = 0;
+  const auto orbit = [&](int k) {
+    ft::Camera c = *camera;
+    const glm::mat4 turn =
+        glm::rotate(glm::mat4(1.0f), glm::radians(kOrbitStepDegrees * float(k)), glm::normalize(c.up));
+    c.eye = c.target + glm::vec3(turn * glm::vec4(c.eye - c.target, 0.0f));
+    return ft::makeViewParams(c, 1.0f, true, true);
+  };
+  g->gpu->setParams(g->fibers.params, orbit(frame++));
+  g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);  // warm-up: a first frame
+  glFinish();
+  double cpuMs = 0.0;
+  uint64_t firstDraw = 0, primitives = 0;
+  for (auto _ : state) {
+    const double cpu0 = ft::processCpuMs();
+    g->timer->begin();
+    g->gpu->setParams(g->fibers.params, orbit(frame++));
+    g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height);
+    state.SetIterationTime(g->timer->endMs() * 1e-3);
+    cpuMs += ft::processCpuMs() - cpu0;
+  }
+  {  // one more step, its pipeline statistics
+    ft::FrameTimings t;
+    g->gpu->setParams(g->fibers.params, orbit(frame++));
+    g->renderer->draw(*g->gpu, ft::FiberPath::Compute, g->width, g->height, &t);
+    firstDraw = t.firstDrawPrimitives;
+    primitives = t.shadePrimitives;
+  }
+  state.counters["cpu_ms"] = cpuMs / double(std::max<int64_t>(1, state.iterations()));
+  state.counters["first_draw_primitives"] = double(firstDraw);
+  state.counters["primitives"] = double(primitives);
+  state.counters["orbit_step_deg"] = kOrbitStepDegrees;
+  state.counters["load1"] = loadAverage();
 }
 
 // The Embree trace of a named view: the CPU reference's fibers at that view
@@ -375,15 +439,28 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < setup.namedViews.size(); ++i) {
       const std::string& name = setup.namedViews[i].first;
       using Cull = ft::FiberRenderer::OcclusionCull;
-      // as render draws it, always culled, never culled (all deferred), culled forward
-      for (int variant : {0, 3, 1, 2})
+      // as render draws it (a frame after another of the same view: two-pass),
+      // one pass (the occluder pass as the view chooses), always the occluder
+      // pass, never culled (all deferred), culled forward
+      for (int variant : {0, 4, 3, 1, 2})
         benchmark::RegisterBenchmark(
             fmt::format("BM_ShadedCompute{}/{}",
-                        variant == 0 ? "" : variant == 1 ? "NoCull" : variant == 2 ? "Forward" : "Cull", name).c_str(),
+                        variant == 0   ? ""
+                        : variant == 1 ? "NoCull"
+                        : variant == 2 ? "Forward"
+                        : variant == 3 ? "Cull"
+                                       : "OnePass",
+                        name)
+                .c_str(),
             BM_NamedFrame, &setup.namedViewParams[i],
-            variant == 0 ? Cull::Auto : variant == 1 ? Cull::Off : Cull::On, variant != 2)
+            variant == 0 || variant == 4 ? Cull::Auto : variant == 1 ? Cull::Off : Cull::On, variant != 2,
+            variant == 0)
             ->Unit(benchmark::kMillisecond)
             ->UseManualTime();
+      benchmark::RegisterBenchmark(fmt::format("BM_ShadedComputeOrbit/{}", name).c_str(), BM_OrbitFrame,
+                                   &setup.namedViews[i].second)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
       benchmark::RegisterBenchmark(fmt::format("BM_Trace16/{}", name).c_str(), BM_Trace16, &setup.namedViews[i].second)
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();

@@ -363,6 +363,12 @@ int main(int argc, char** argv) {
                      "depends on the view); on; off (the frame is the same)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  render->add_option("--two-pass-cull", ro.twoPassCullMode,
+                     "on: a frame after another of the same model (the warm frame of --profile) draws first the "
+                     "fiber strips the last frame saw, then the others against their depth, instead of the occluder "
+                     "pass; off (the depth is the same; docs/shaded-frame.md)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   render->add_flag("!--forward", ro.deferred,
                    "shade every fragment in the fragment stage instead of deferred shading of the visible hits "
                    "(the frame is the same)");

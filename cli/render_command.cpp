@@ -186,6 +186,7 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                             : o.occlusionCullMode == "on"                     ? Cull::On
                                                                               : Cull::Auto);
   renderer.setDeferred(o.deferred);
+  renderer.setTwoPassCull(o.twoPassCullMode == "on");
   FrameTimings cold, warm;
   if (o.profile) renderer.draw(gpu, path, w, h, &cold);  // then the same frame again, everything built
   const ImageRgbaF img = drawShadedFrame(renderer, gpu, path, w, h, fmt::format("the {} path", o.path),
@@ -196,7 +197,13 @@ int runRenderCommand(const RenderCommandOptions& o, std::ostream& log) {
                      v.model.curves.size(), v.buffers.segments.size(), o.path, 1e3 * seconds, g.renderer);
   if (o.profile) {
     log << fmt::format("  bakes (shading inputs): {:.0f} ms\n", 1e3 * bakeSeconds);
-    log << fmt::format("  occlusion culling: {} ({})\n", renderer.cullsView(gpu) ? "on" : "off", o.occlusionCull ? o.occlusionCullMode : "off");
+    log << fmt::format("  occlusion culling: {} ({}); two-pass culling of the warm frame: {}\n",
+                       renderer.cullsView(gpu) ? "occluder pass" : "off", o.occlusionCull ? o.occlusionCullMode : "off",
+                       warm.twoPass ? fmt::format("on, its first draw {} of {} primitives, {:.0f} ms (CPU {:.0f} ms) "
+                                                  "of the visibility pass",
+                                                  warm.firstDrawPrimitives, warm.shadePrimitives, warm.firstDrawMs,
+                                                  warm.firstDrawCpuMs)
+                                    : "off");
     for (const auto& [name, t] : {std::pair<const char*, const FrameTimings&>{"cold frame", cold}, {"warm frame", warm}})
       log << fmt::format(
           "  {}: {:.0f} ms = shadow map {:.0f} + generation {:.0f} + depth pass {:.0f} + {} {:.0f}{}; CPU time "

@@ -71,6 +71,17 @@
 // Harness read-back of a multisampled depth texture, sample by sample, in a
 // program of its own (like the layout probe, whose slot it shares).
 #define FT_SSBO_SAMPLE_DEPTHS FT_SSBO_LAYOUT_PROBE
+// Two-pass culling (common/occlusion_cull.h ftLineKey): one bit per line key,
+// the lines that won a sample of the last frame (read by the visibility
+// pass's geometry stage) or of this one (set by the compaction). Bound only
+// around those two, which read nothing else there, so it shares the probe's
+// slot too (no slot below llvmpipe's 80 is free).
+#define FT_SSBO_VISIBLE_LINES FT_SSBO_LAYOUT_PROBE
+// ... and on the compute path the index buffer of one of its two draws
+// (two_pass_lines.comp.glsl), written by a program of its own that reads no
+// strip owners (generation's pass 5), whose slot it shares.
+#define FT_SSBO_TWO_PASS_INDICES FT_SSBO_STRIP_OWNERS
+#define FT_WG_TWO_PASS 64
 
 // Deferred shading of the frame (FiberRenderer::drawDeferred, docs/shaded-frame.md):
 // the visibility pass's hit records (FT_VISIBILITY_TARGETS 4× multisampled
@@ -79,6 +90,7 @@
 #define FT_VISIBILITY_TARGETS 5    // vec4s per hit record (fiber_strip.frag.glsl ftPackHit)
 #define FT_DEFERRED_SAMPLES 4      // the shaded target's samples per pixel
 #define FT_TEX_HIT_RECORD0 1       // sampler2DMS: record k at unit FT_TEX_HIT_RECORD0 + k
+#define FT_TEX_HIT_LINE (FT_TEX_HIT_RECORD0 + FT_VISIBILITY_TARGETS)  // usampler2DMS: ftLineKey + 1 of the hit, 0: none
 #define FT_SSBO_DEFERRED_LIST 73   // uvec4 header (x: entries), then (uvec4 x, y, sample, mask; vec4 colour) per entry
 #define FT_WG_DEFERRED_COMPACT 8   // 8 × 8 pixels per work group
 #define FT_WG_DEFERRED_SHADE 64

@@ -29,6 +29,7 @@
 #ifndef FT_OCCLUSION_CULL_H
 #define FT_OCCLUSION_CULL_H
 #include "prelude.h"
+#include "rng.h"
 #include "view_params.h"
 
 #define FT_OCCLUSION_MAX_LEVELS 16
@@ -117,6 +118,33 @@ FT_FUNC uint ftOcclusionLevelFor(OcclusionPyramid p, uvec2 lo, uvec2 hi) {
     ++k;
   return k;
 }
+
+// Two-pass culling (docs/shaded-frame.md "Two-pass culling"; Haar and
+// Aaltonen 2015, "GPU-Driven Rendering Pipelines", the last frame's visible
+// set): a frame first draws the lines that won a sample of the previous
+// frame, builds the pyramid from the depth they leave, and then draws the
+// other lines against it, the test above. The depth buffer holds, at every
+// sample, the nearest of what was drawn, so a line of the second draw that
+// the pyramid drops could not have won a sample: the frame's depth is the
+// same as with one draw of everything, whatever the previous frame saw, and
+// its colour too where no two lines tie at a sample's depth (a tie goes to
+// the line drawn first, and the first draw reorders lines). What the
+// previous frame saw only decides how much the second draw saves.
+//
+// A line is named by its first vertex's FiberVertex.id (y global segment,
+// z ply << 16 | fiber, w's bits 8..15 the vertex along the segment), the same
+// on both paths and from frame to frame whatever the LoD draws elsewhere,
+// hashed (ftPcg4d) to one of 2^bits marks. Two lines that share a mark are
+// both drawn first when either was seen: a matter of time only.
+FT_FUNC uint ftLineKey(uvec4 id, uint bits) {
+  uvec4 h = ftPcg4d(uvec4(id.y, id.z, (id.w >> 8u) & 0xFFu, 0x9E3779B9u));
+  return bits >= 32u ? h.x : h.x & ((1u << bits) - 1u);
+}
+
+// The draws of a two-pass frame and the lines each takes.
+#define FT_TWO_PASS_ALL 0u     // one pass: every line
+#define FT_TWO_PASS_SEEN 1u    // the first draw: the lines the last frame saw
+#define FT_TWO_PASS_UNSEEN 2u  // the second draw: the others (those not behind the pyramid)
 
 FT_NAMESPACE_END
 #endif  // FT_OCCLUSION_CULL_H

@@ -29,6 +29,11 @@ void setUniform(GLuint program, const char* name, glm::vec3 value) {
   if (loc >= 0) glProgramUniform3f(program, loc, value.x, value.y, value.z);
 }
 
+void setUniform(GLuint program, const char* name, glm::uvec2 value) {
+  const GLint loc = glGetUniformLocation(program, name);
+  if (loc >= 0) glProgramUniform2ui(program, loc, value.x, value.y);
+}
+
 void dispatchFlat(GLuint program, size_t items, uint32_t groupSize, int maxGroupsY, const char* what) {
   if (items == 0) return;
   const size_t groups = (items + groupSize - 1) / groupSize;

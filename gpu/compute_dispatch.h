@@ -16,6 +16,7 @@ void setUniform(GLuint program, const char* name, uint32_t value);
 void setUniform(GLuint program, const char* name, float value);
 void setUniform(GLuint program, const char* name, glm::vec2 value);
 void setUniform(GLuint program, const char* name, glm::vec3 value);
+void setUniform(GLuint program, const char* name, glm::uvec2 value);
 
 // Uses `program`, sets `groupsX` and `itemCount`, dispatches ⌈items/groupSize⌉
 // groups, checks GL errors (naming `what`) and puts up a barrier for storage

@@ -376,11 +376,16 @@ void FiberGpu::draw(FiberPath path, GLuint program) {
   else drawTessellation(program);
 }
 
-void FiberGpu::drawCompute(GLuint program) {
+void FiberGpu::drawComputeIndices(GLuint program, GLuint indexBuffer) {
+  glUseProgram(program);
+  drawCompute(program, indexBuffer);
+}
+
+void FiberGpu::drawCompute(GLuint program, GLuint indexBuffer) {
   setUint(program, "vertexTotal", readDrawCommand().vertexTotal);
   setUint(program, "listCount", static_cast<uint32_t>(listCount_));  // the yarn frame of each vertex
   glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer != 0 ? indexBuffer : indices_.id());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_.id());
   glDrawElementsIndirect(GL_LINE_STRIP, GL_UNSIGNED_INT, nullptr);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);

@@ -89,6 +89,10 @@ class FiberGpu {
   FiberDrawStages drawStages(FiberPath path) const;
   void prepareDraw(FiberPath path);
   void draw(FiberPath path, GLuint program);
+  // The compute path's draw with another index buffer of the same layout
+  // (indexCapacity() indices, e.g. a copy with some restarts added).
+  void drawComputeIndices(GLuint program, GLuint indexBuffer);
+  size_t indexCapacity() const { return indexCapacity_; }
   // An arbitrary vertex stream in canonical strip order (e.g. the CPU's) in
   // place of the compute path's buffers: the same draw as FiberPath::Compute.
   void drawVertices(std::span<const FiberVertex> vertices, std::span<const SegmentDecision> decisions, GLuint program);
@@ -109,7 +113,7 @@ class FiberGpu {
   // A flattened dispatch of `items` invocations in groups of `groupSize` (x, then y rows).
   void dispatchFlat(GLuint program, size_t items, size_t groupSize, const char* what);
   void bindCommon() const;
-  void drawCompute(GLuint program);
+  void drawCompute(GLuint program, GLuint indexBuffer = 0);
   void drawTessellation(GLuint program);
 
   std::vector<std::string> defines_;

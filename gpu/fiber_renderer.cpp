@@ -28,15 +28,19 @@ Buffer makeBuffer(size_t bytes, const void* data) {
 // A 4× multisampled colour + depth target and its single-sampled resolve.
 struct MultisampleTarget {
   Framebuffer ms = Framebuffer::create(), resolve = Framebuffer::create();
-  Renderbuffer msColor = Renderbuffer::create(), depth = Renderbuffer::create(), resolveColor = Renderbuffer::create();
+  Renderbuffer msColor = Renderbuffer::create(), resolveColor = Renderbuffer::create();
+  Texture depth;  // a texture, which the two-pass culling's pyramid reads
   int width, height;
 
   MultisampleTarget(int w, int h, GLenum colorFormat) : width(w), height(h) {
     glNamedRenderbufferStorageMultisample(msColor.id(), 4, colorFormat, w, h);
-    glNamedRenderbufferStorageMultisample(depth.id(), 4, GL_DEPTH_COMPONENT24, w, h);
+    GLuint tex = 0;
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
+    depth = Texture(tex);
+    glTextureStorage2DMultisample(tex, 4, GL_DEPTH_COMPONENT24, w, h, GL_TRUE);
     glNamedRenderbufferStorage(resolveColor.id(), colorFormat, w, h);
     glNamedFramebufferRenderbuffer(ms.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColor.id());
-    glNamedFramebufferRenderbuffer(ms.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.id());
+    glNamedFramebufferTexture(ms.id(), GL_DEPTH_ATTACHMENT, tex, 0);
     glNamedFramebufferRenderbuffer(resolve.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor.id());
   }
   void begin(glm::vec4 clear) const {
@@ -73,21 +77,23 @@ struct MultisampleTarget {
 struct DeferredTarget {
   Framebuffer fbo = Framebuffer::create();
   Texture records[FT_VISIBILITY_TARGETS];
+  Texture lines;  // R32UI: the hit's line key + 1 (two-pass culling), after the records
   Buffer list;
   int width, height;
 
   DeferredTarget(int w, int h, GLuint depth) : width(w), height(h) {
-    GLenum buffers[FT_VISIBILITY_TARGETS];
-    for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) {
+    GLenum buffers[FT_VISIBILITY_TARGETS + 1];
+    for (int k = 0; k <= FT_VISIBILITY_TARGETS; ++k) {
       GLuint tex = 0;
       glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
-      records[k] = Texture(tex);
-      glTextureStorage2DMultisample(tex, FT_DEFERRED_SAMPLES, GL_RGBA32F, w, h, GL_TRUE);
+      (k < FT_VISIBILITY_TARGETS ? records[k] : lines) = Texture(tex);
+      glTextureStorage2DMultisample(tex, FT_DEFERRED_SAMPLES, k < FT_VISIBILITY_TARGETS ? GL_RGBA32F : GL_R32UI, w, h,
+                                    GL_TRUE);
       glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0 + k, tex, 0);
       buffers[k] = GL_COLOR_ATTACHMENT0 + k;
     }
-    glNamedFramebufferDrawBuffers(fbo.id(), FT_VISIBILITY_TARGETS, buffers);
-    glNamedFramebufferRenderbuffer(fbo.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    glNamedFramebufferDrawBuffers(fbo.id(), FT_VISIBILITY_TARGETS + 1, buffers);
+    glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth, 0);
     // At most one entry per sample: a header, then 32 bytes per entry.
     list = makeBuffer(16 + size_t(w) * h * FT_DEFERRED_SAMPLES * 32, nullptr);
   }
@@ -99,6 +105,12 @@ FiberRenderer::FiberRenderer(const GlInfo& gl, std::vector<std::string> defines)
       faultShadowMapStale_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_SHADOW_MAP_STALE") != defines_.end()),
       faultFlyawayNoDepthTest_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_FRAME_FLYAWAY_NO_DEPTH_TEST") !=
                                defines_.end()),
+      faultTwoPassStalePyramid_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_TWO_PASS_STALE_PYRAMID") !=
+                                defines_.end()),
+      faultTwoPassDepthCleared_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_TWO_PASS_DEPTH_CLEARED") !=
+                                defines_.end()),
+      faultTwoPassPyramidLayout_(std::find(defines_.begin(), defines_.end(), "FT_FAULT_TWO_PASS_PYRAMID_LAYOUT") !=
+                                 defines_.end()),
       maxGroupsY_(gl.maxComputeWorkGroupCount[1]) {}
 
 FiberRenderer::~FiberRenderer() = default;
@@ -486,11 +498,10 @@ void FiberRenderer::drawOccluders(FiberGpu& fibers, FiberPath path, int width, i
     glNamedFramebufferTexture(occluderFbo_.id(), GL_DEPTH_ATTACHMENT, tex, 0);
     glNamedFramebufferDrawBuffer(occluderFbo_.id(), GL_NONE);
     glNamedFramebufferReadBuffer(occluderFbo_.id(), GL_NONE);
-    pyramid_ = ftOcclusionPyramidLayout(uint32_t(width), uint32_t(height));
-    occlusionTexels_ = makeBuffer(size_t(ftOcclusionTexelCount(pyramid_)) * sizeof(float), nullptr);
     occluderWidth_ = width;
     occluderHeight_ = height;
   }
+  ensurePyramid(width, height);
   bindOcclusion(false);
   glBindFramebuffer(GL_FRAMEBUFFER, occluderFbo_.id());
   glViewport(0, 0, width, height);
@@ -513,11 +524,24 @@ void FiberRenderer::drawOccluders(FiberGpu& fibers, FiberPath path, int width, i
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glDisable(GL_DEPTH_TEST);
+  buildPyramid(occluderDepth_.id());
+}
 
+void FiberRenderer::ensurePyramid(int width, int height) {
+  if (pyramidWidth_ == width && pyramidHeight_ == height) return;
+  pyramid_ = ftOcclusionPyramidLayout(uint32_t(width), uint32_t(height));
+  occlusionTexels_ = makeBuffer(size_t(ftOcclusionTexelCount(pyramid_)) * sizeof(float), nullptr);
+  pyramidWidth_ = width;
+  pyramidHeight_ = height;
+}
+
+void FiberRenderer::buildPyramid(GLuint multisampleDepthTexture) {
+  // The layout, which the kernel reads (the culling's tests off until it is built).
+  if (!faultTwoPassPyramidLayout_) bindOcclusion(false);
   if (!pyramidProgram_) pyramidProgram_ = Program(buildProgram({"shaders/occlusion_pyramid.comp.glsl"}, defines_));
   const GLuint pp = pyramidProgram_.id();
   glUseProgram(pp);
-  glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, occluderDepth_.id());
+  glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, multisampleDepthTexture);
   setUniform(pp, "samples", 4u);
   glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   for (uint32_t k = 0; k < pyramid_.size.z; ++k) {
@@ -530,10 +554,16 @@ void FiberRenderer::drawOccluders(FiberGpu& fibers, FiberPath path, int width, i
   bindOcclusion(true);
 }
 
-double FiberRenderer::occludedFraction() const {
-  if (occluderWidth_ == 0) return 0.0;
-  std::vector<float> level0(size_t(occluderWidth_) * occluderHeight_);
+std::vector<float> FiberRenderer::readPyramidLevel0() const {
+  if (pyramidWidth_ == 0) return {};
+  std::vector<float> level0(size_t(pyramidWidth_) * pyramidHeight_);
   glGetNamedBufferSubData(occlusionTexels_.id(), 0, GLsizeiptr(level0.size() * sizeof(float)), level0.data());
+  return level0;
+}
+
+double FiberRenderer::occludedFraction() const {
+  if (pyramidWidth_ == 0) return 0.0;
+  const std::vector<float> level0 = readPyramidLevel0();
   size_t occluded = 0;
   for (float d : level0) occluded += d < 1.0f;
   return double(occluded) / double(level0.size());
@@ -567,17 +597,27 @@ std::vector<float> FiberRenderer::readOccluderSampleDepths() const {
 
 std::vector<float> FiberRenderer::readFrameSampleDepths() const {
   if (!shadedTarget_) return {};
-  // The shaded target's depth is a renderbuffer: copied sample for sample
-  // (same size, sample count and format) into a texture the compute stage reads.
-  const int w = shadedTarget_->width, h = shadedTarget_->height;
-  GLuint tex = 0;
-  glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
-  const Texture copy(tex);
-  glTextureStorage2DMultisample(tex, 4, GL_DEPTH_COMPONENT24, w, h, GL_TRUE);
-  const Framebuffer fbo = Framebuffer::create();
-  glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, tex, 0);
-  glBlitNamedFramebuffer(shadedTarget_->ms.id(), fbo.id(), 0, 0, w, h, 0, 0, w, h, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-  return readSampleDepths(tex, w, h);
+  return readSampleDepths(shadedTarget_->depth.id(), shadedTarget_->width, shadedTarget_->height);
+}
+
+namespace {
+
+// The marks of two-pass culling for a width × height frame: a frame's lines
+// that win a sample are at most its samples (4 per pixel), so 4 marks per
+// sample keep a line unseen but marked through another's key below 1 in 4
+// (0.5 % at the whole glove: 161 k lines seen, 2^25 marks, 4 MB).
+uint32_t lineKeyBits(int width, int height) {
+  const uint64_t samples = uint64_t(std::max(width, 1)) * uint64_t(std::max(height, 1)) * FT_DEFERRED_SAMPLES;
+  uint32_t bits = 16;
+  while (bits < 30 && (uint64_t(1) << bits) < 4 * samples) ++bits;
+  return bits;
+}
+
+}  // namespace
+
+bool FiberRenderer::drawsTwoPass(const FiberGpu& fibers, int width, int height) const {
+  return deferred_ && twoPass_ && occlusionCull_ != OcclusionCull::Off && visibleKept_ &&
+         visibleModel_ == fibers.modelVersion() && visibleBits_ == lineKeyBits(width, height);
 }
 
 bool FiberRenderer::cullsView(const FiberGpu& fibers) const {
@@ -592,11 +632,16 @@ bool FiberRenderer::cullsView(const FiberGpu& fibers) const {
 // The fibers drawn with `prog`; with `timings`, counting the geometry
 // stage's primitives and the fragment-shader invocations where the driver
 // has pipeline statistics (GL 4.6 or ARB_pipeline_statistics_query).
-void FiberRenderer::drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, FrameTimings* timings) {
+void FiberRenderer::drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, FrameTimings* timings,
+                                GLuint computeIndices) {
+  const auto drawFibers = [&] {
+    if (computeIndices != 0 && path == FiberPath::Compute) fibers.drawComputeIndices(prog, computeIndices);
+    else fibers.draw(path, prog);
+  };
   const bool count =
       timings && (epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query"));
   if (!count) {
-    fibers.draw(path, prog);
+    drawFibers();
     return;
   }
   // glGenQueries: Mesa 22.3's glCreateQueries refuses these targets.
@@ -605,14 +650,14 @@ void FiberRenderer::drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, F
   Query primitives(ids[0]), fragments(ids[1]);
   glBeginQuery(GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB, primitives.id());
   glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, fragments.id());
-  fibers.draw(path, prog);
+  drawFibers();
   glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
   glEndQuery(GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB);
   GLuint64 n = 0;
   glGetQueryObjectui64v(primitives.id(), GL_QUERY_RESULT, &n);
-  timings->shadePrimitives = n;
+  timings->shadePrimitives += n;
   glGetQueryObjectui64v(fragments.id(), GL_QUERY_RESULT, &n);
-  timings->shadeFragmentInvocations = n;
+  timings->shadeFragmentInvocations += n;
 }
 
 namespace {
@@ -657,7 +702,9 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   const bool env = (inputs_.params.flags.w & FT_APPEARANCE_ENVIRONMENT) != 0u;
   // Soft shadows or lobe maps: the PCSS variant of the shaded pass.
   const bool pcss = (inputs_.params.flags.w & FT_APPEARANCE_SOFT_SHADOWS) != 0u || inputs_.lobeShadowEnvironment.has_value();
-  const bool cull = cullsView(fibers);
+  // Two-pass culling needs no occluder pass: the lines the last frame saw are its occluders.
+  const bool twoPass = drawsTwoPass(fibers, width, height);
+  const bool cull = !twoPass && cullsView(fibers);
   const GLuint prog = program(fibers, path,
                               ds ? (env ? StripPass::ShadedDualScatteringEnvironment : StripPass::ShadedDualScattering)
                                  : (env ? StripPass::ShadedEnvironment : StripPass::Shaded),
@@ -683,13 +730,14 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
   shadedTarget_->begin(glm::vec4(glm::vec3(inputs_.params.background), 0.0f));
   bindShading();
   if (deferred_) {
-    drawDeferred(fibers, path, ds, env, pcss, cull, timings);
+    drawDeferred(fibers, path, ds, env, pcss, cull, twoPass, timings);
     t = std::chrono::steady_clock::now();
     if (timings) cpu = processCpuMs();
   } else {
     setUniform(prog, "shaded", 1u);
     setRayProbeUniforms(prog, width, height);
     drawCounted(fibers, path, prog, timings);
+    visibleKept_ = false;  // only the deferred frame marks what it saw
   }
   if ((inputs_.params.flags.w & FT_APPEARANCE_FLYAWAYS) != 0u) drawFlyaways(fibers);  // the third pass
   shadedTarget_->finish();
@@ -703,8 +751,32 @@ void FiberRenderer::draw(FiberGpu& fibers, FiberPath path, int width, int height
 // fragment costs the whole fragment shader (docs/llvmpipe-notes.md), so the
 // shading moves out of it. Called with the shaded target bound and cleared;
 // leaves it bound with the colour of every sample the fibers won written.
+// The compute path's index buffer for draw `which` (1 or 2) of two-pass
+// culling (two_pass_lines.comp.glsl); 0 on the tessellation path, whose
+// geometry stage alone chooses. Needs the kept marks and, for the second
+// draw, the pyramid bound.
+GLuint FiberRenderer::twoPassIndices(FiberGpu& fibers, FiberPath path, uint32_t which, uint32_t bits) {
+  if (path != FiberPath::Compute) return 0;
+  const size_t count = fibers.readDrawCommand().count;
+  if (twoPassIndexCapacity_ < fibers.indexCapacity() || !twoPassIndices_) {
+    twoPassIndexCapacity_ = std::max<size_t>(fibers.indexCapacity(), 1);
+    twoPassIndices_ = makeBuffer(twoPassIndexCapacity_ * sizeof(uint32_t), nullptr);
+  }
+  if (!twoPassLinesProgram_)
+    twoPassLinesProgram_ = Program(buildProgram({"shaders/two_pass_lines.comp.glsl"}, defines_));
+  const GLuint p = twoPassLinesProgram_.id();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_TWO_PASS_INDICES, twoPassIndices_.id());
+  setUniform(p, "twoPassDraw", which);
+  setUniform(p, "lineKeyBits", bits);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  dispatchFlat(p, count, FT_WG_TWO_PASS, maxGroupsY_, "two_pass_lines");
+  glMemoryBarrier(GL_ELEMENT_ARRAY_BARRIER_BIT);
+  fibers.bindYarn();  // the strip owners at their slot again
+  return twoPassIndices_.id();
+}
+
 void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss, bool cull,
-                                 FrameTimings* timings) {
+                                 bool twoPass, FrameTimings* timings) {
   const int width = shadedTarget_->width, height = shadedTarget_->height;
   if (!deferredTarget_ || deferredTarget_->width != width || deferredTarget_->height != height)
     deferredTarget_ = std::make_unique<DeferredTarget>(width, height, shadedTarget_->depth.id());
@@ -716,13 +788,55 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   glBindFramebuffer(GL_FRAMEBUFFER, dt.fbo.id());
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glClearNamedFramebufferfv(dt.fbo.id(), GL_COLOR, k, zero);
-  const GLuint vis = program(fibers, path, StripPass::Visibility, false, cull);
-  setUniform(vis, "shaded", 1u);
-  drawCounted(fibers, path, vis, timings);
+  const GLuint zeroKey[4] = {0u, 0u, 0u, 0u};
+  glClearNamedFramebufferuiv(dt.fbo.id(), GL_COLOR, FT_VISIBILITY_TARGETS, zeroKey);
+  // Two-pass culling's bit sets: the kept one (read by the draws), this frame's (cleared, set by the compaction).
+  const uint32_t bits = lineKeyBits(width, height);
+  if (visibleBits_ != bits || !visibleLines_[0]) {
+    for (Buffer& b : visibleLines_) b = makeBuffer((size_t(1) << bits) / 8, nullptr);
+    visibleBits_ = bits;
+    visibleKept_ = false;
+  }
+  const Buffer& seen = visibleLines_[1 - visibleNow_];
+  const Buffer& seeing = visibleLines_[visibleNow_];
+  glClearNamedBufferData(seeing.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, seen.id());
+  const auto visibilityDraw = [&](bool occlusionTest, uint32_t which) {
+    const GLuint indices = which != FT_TWO_PASS_ALL ? twoPassIndices(fibers, path, which, bits) : 0;
+    const GLuint vis = program(fibers, path, StripPass::Visibility, false, occlusionTest);
+    setUniform(vis, "shaded", 1u);
+    setUniform(vis, "twoPassDraw", which);
+    setUniform(vis, "lineKeyBits", bits);
+    drawCounted(fibers, path, vis, timings, indices);
+  };
+  if (twoPass) {
+    // First the lines the last frame saw, then the pyramid of the depth they
+    // left, then the other lines against it (common/occlusion_cull.h).
+    visibilityDraw(false, FT_TWO_PASS_SEEN);
+    if (timings) {
+      glFinish();
+      timings->twoPass = true;
+      timings->firstDrawPrimitives = timings->shadePrimitives;
+      timings->firstDrawMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+      timings->firstDrawCpuMs = processCpuMs() - cpu;
+    }
+    ensurePyramid(width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (!faultTwoPassStalePyramid_) buildPyramid(shadedTarget_->depth.id());
+    else bindOcclusion(true);  // planted: whatever pyramid the last frame left
+    glBindFramebuffer(GL_FRAMEBUFFER, dt.fbo.id());
+    if (faultTwoPassDepthCleared_) glClear(GL_DEPTH_BUFFER_BIT);  // planted: the second draw on a fresh depth
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, seen.id());
+    visibilityDraw(true, FT_TWO_PASS_UNSEEN);
+  } else {
+    visibilityDraw(cull, 0u);
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, 0);
+  auto afterVisibility = std::chrono::steady_clock::now();
   if (timings) {
     glFinish();
-    const auto now = std::chrono::steady_clock::now();
-    timings->shadeMs += std::chrono::duration<double, std::milli>(now - t).count();
+    afterVisibility = std::chrono::steady_clock::now();
+    timings->shadeMs += std::chrono::duration<double, std::milli>(afterVisibility - t).count();
     timings->shadeCpuMs += processCpuMs() - cpu;
   }
   // 2. The compaction: each pixel's distinct records, one entry each.
@@ -731,6 +845,8 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   dt.list.update(header, sizeof(header));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DEFERRED_LIST, dt.list.id());
   for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glBindTextureUnit(FT_TEX_HIT_RECORD0 + k, dt.records[k].id());
+  glBindTextureUnit(FT_TEX_HIT_LINE, dt.lines.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, seeing.id());
   glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   glUseProgram(compactProgram_.id());
   glProgramUniform2ui(compactProgram_.id(), glGetUniformLocation(compactProgram_.id(), "size"), GLuint(width),
@@ -738,6 +854,11 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   glDispatchCompute((width + FT_WG_DEFERRED_COMPACT - 1) / FT_WG_DEFERRED_COMPACT,
                     (height + FT_WG_DEFERRED_COMPACT - 1) / FT_WG_DEFERRED_COMPACT, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  glBindTextureUnit(FT_TEX_HIT_LINE, 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, 0);
+  visibleNow_ = 1 - visibleNow_;
+  visibleKept_ = true;
+  visibleModel_ = fibers.modelVersion();
   uint32_t count[4] = {};
   glGetNamedBufferSubData(dt.list.id(), 0, sizeof(count), count);
   const size_t capacity = size_t(width) * height * FT_DEFERRED_SAMPLES;
@@ -773,6 +894,11 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   if (deferredEntries_ > 0) glDrawArrays(GL_POINTS, 0, GLsizei(deferredEntries_));
   glBindVertexArray(0);
   glEnable(GL_DEPTH_TEST);
+  if (timings) {  // the compaction's read-back waits for it: timed here, not by the caller
+    glFinish();
+    timings->deferredMs +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - afterVisibility).count();
+  }
 }
 
 ImageRgbaF FiberRenderer::read() const {

@@ -57,6 +57,11 @@ struct FrameTimings {
   // pixel of every 4 x 4 block a primitive touches, covered or not: the
   // work its fragment stage does). 0 where the driver has no such query.
   uint64_t shadePrimitives = 0, shadeFragmentInvocations = 0;
+  // Two-pass culling (FiberRenderer::setTwoPassCull): whether this frame
+  // was, and the triangles of its first draw (included in shadePrimitives).
+  bool twoPass = false;
+  uint64_t firstDrawPrimitives = 0;
+  double firstDrawMs = 0, firstDrawCpuMs = 0;  // the first draw's share of shadeMs and shadeCpuMs
   double totalMs() const { return shadowMapMs + generateMs + depthMs + shadeMs + deferredMs; }
 };
 
@@ -103,6 +108,23 @@ class FiberRenderer {
   // before such a frame.
   std::vector<float> readOccluderSampleDepths() const;
   std::vector<float> readFrameSampleDepths() const;
+  // Level 0 of the last culled frame's depth pyramid (width × height, rows
+  // bottom-up): the occluders', or of a two-pass frame the first draw's
+  // max depth per pixel. Empty before such a frame.
+  std::vector<float> readPyramidLevel0() const;
+  // Two-pass culling (common/occlusion_cull.h ftLineKey; on by default, for
+  // deferred frames with occlusion culling not Off): a frame after another of
+  // the same model and size first draws the lines that won a sample of that
+  // frame, builds the pyramid from the depth they leave, and then draws the
+  // others against it, instead of the occluder pass. The depth buffer is the
+  // same as without; the colour too, but where two lines tie at a sample's
+  // depth (the first drawn wins; docs/shaded-frame.md "Two-pass culling").
+  void setTwoPassCull(bool on) { twoPass_ = on; }
+  bool twoPassCull() const { return twoPass_; }
+  // Forgets what the last frame saw: the next frame draws as a first frame.
+  void forgetVisibility() { visibleKept_ = false; }
+  // Whether the next draw() of `fibers` at width × height is two-pass.
+  bool drawsTwoPass(const FiberGpu& fibers, int width, int height) const;
   // Deferred shading (on by default; docs/shaded-frame.md): a visibility pass
   // writes each fragment's hit instead of shading it, a compute pass lists
   // each pixel's distinct hits, and only those are shaded (the forward pass's
@@ -159,7 +181,8 @@ class FiberRenderer {
                             const RenderStyle& style = {});
 
  private:
-  void drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, FrameTimings* timings);
+  // computeIndices: on the compute path, the index buffer to draw instead of the fibers' own.
+  void drawCounted(FiberGpu& fibers, FiberPath path, GLuint prog, FrameTimings* timings, GLuint computeIndices = 0);
   // Built on first use per path and pass (common/occlusion_cull.h).
   // ShadedDualScattering: the shaded pass with FT_FRAME_DUAL_SCATTERING, so
   // that frames without it do not pay for it (llvmpipe runs every branch).
@@ -187,11 +210,28 @@ class FiberRenderer {
   // pyramid for the shaded pass.
   void drawOccluders(FiberGpu& fibers, FiberPath path, int width, int height);
   void bindOcclusion(bool enabled);
+  // The pyramid's layout and texels for a width × height target; then the
+  // pyramid of a 4× multisampled depth texture, bound for the shaded pass.
+  void ensurePyramid(int width, int height);
+  void buildPyramid(GLuint multisampleDepthTexture);
 
   std::vector<std::string> defines_;
   Program programs_[2][7][2][2];  // [path][StripPass][FT_FRAME_PCSS][FT_OCCLUSION_TEST]
   // Deferred shading: the visibility pass into the hit records, then these.
-  void drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss, bool cull, FrameTimings* timings);
+  void drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool env, bool pcss, bool cull, bool twoPass,
+                    FrameTimings* timings);
+  // Two-pass culling: the lines seen by the last frame and by this one
+  // (FT_SSBO_VISIBLE_LINES bit sets of 2^visibleBits_ marks, swapped after
+  // each deferred frame), and what the kept one belongs to.
+  bool twoPass_ = true, visibleKept_ = false;
+  Buffer visibleLines_[2];
+  int visibleNow_ = 0;
+  uint64_t visibleModel_ = 0;
+  uint32_t visibleBits_ = 0;
+  GLuint twoPassIndices(FiberGpu& fibers, FiberPath path, uint32_t which, uint32_t bits);
+  Program twoPassLinesProgram_;
+  Buffer twoPassIndices_;
+  size_t twoPassIndexCapacity_ = 0;
   bool deferred_ = true;
   size_t deferredEntries_ = 0;
   Program compactProgram_, resolveProgram_;
@@ -205,7 +245,7 @@ class FiberRenderer {
   std::vector<float> readSampleDepths(GLuint multisampleDepthTexture, int width, int height) const;
   Texture occluderDepth_;
   Framebuffer occluderFbo_;
-  int occluderWidth_ = 0, occluderHeight_ = 0;
+  int occluderWidth_ = 0, occluderHeight_ = 0, pyramidWidth_ = 0, pyramidHeight_ = 0;
   Buffer occlusionUbo_, occlusionTexels_;
   OcclusionPyramid pyramid_{};
   Buffer shadingUbo_, ambientTable_, lobeNormTable_, selfShadowUbo_, selfShadowTexels_;
@@ -232,6 +272,9 @@ class FiberRenderer {
   uint64_t shadowModel_ = 0, shadowInputs_ = 0, inputsVersion_ = 0;
   bool faultShadowMapStale_ = false;
   bool faultFlyawayNoDepthTest_ = false;  // planted: the flyaway pass without the depth test
+  bool faultTwoPassStalePyramid_ = false;  // planted: the second draw tested against the last frame's pyramid
+  bool faultTwoPassDepthCleared_ = false;  // planted: the depth cleared between the two draws
+  bool faultTwoPassPyramidLayout_ = false;  // planted: the pyramid built before its layout is bound
   uint32_t shadowSize_ = 0, shadowLayers_ = 0;
   // Soft shadows (common/pcss.h): the lobe maps' depth array and its SSBO
   // copy, PcssParams, the GPU lookup; what the lobe maps were drawn from.

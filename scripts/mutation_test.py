@@ -244,8 +244,11 @@ RULES = [
     # The BCSDF and its tables: its cases (oracle included), the shading cases, its unit test.
     (r"bcsdf", "^(bcsdf|shading)/", ["bcsdf_test", "fiber_trace_test"]),
     # Occlusion culling (common/occlusion_cull.h, the pyramid kernel, the per-sample depth read-back):
-    # the frame with and without it, and the occluders against the frame sample by sample.
-    (r"occlusion_(cull|pyramid)|sample_depth_read", "^shading/occlusion-cull/", ["occlusion_cull_test"]),
+    # the frame with and without it, and the occluders against the frame sample by sample;
+    # two-pass culling (ftStripKey, the same pyramid) against one pass, before and after a turn.
+    (r"occlusion_(cull|pyramid)|sample_depth_read|two_pass", "^shading/(occlusion|two-pass)-cull/", ["occlusion_cull_test"]),
+    # Deferred shading's kernels (the compaction also marks the strips two-pass culling reuses).
+    (r"fiber_(compact|shade|resolve)|deferred_resources", "^shading/", ["fiber_trace_test"]),
     # The shaded frame: fragment shading, the renderer, the shading inputs, the ground truth.
     (r"fiber_shading\.h|fiber_strip\.(frag|geom)|fiber_renderer|shading_inputs|fiber_trace|lighting\.cpp|fabric\.cpp",
      "^(shading|appearance|closeup)/|strip-width", ["fiber_trace_test", "bcsdf_test"]),

@@ -13,6 +13,10 @@
 layout(local_size_x = FT_WG_DEFERRED_COMPACT, local_size_y = FT_WG_DEFERRED_COMPACT) in;
 
 uniform uvec2 size;
+// Two-pass culling (common/occlusion_cull.h ftLineKey): the line of each
+// hit, and the bit set of the lines this frame saw, for the next frame.
+layout(binding = FT_TEX_HIT_LINE) uniform usampler2DMS hitLine;
+layout(std430, binding = FT_SSBO_VISIBLE_LINES) buffer VisibleNow { uint visibleNow[]; };
 
 // The record's 20 words at sample s, as bits (so that equality is exact).
 void recordBits(ivec2 p, int s, out uvec4 r[FT_VISIBILITY_TARGETS]) {
@@ -60,5 +64,8 @@ void main() {
   for (uint i = 0u; i < n; ++i) {
     entries[base + i].where = uvec4(q, firsts[i], masks[i]);
     entries[base + i].color = vec4(0.0);
+    uint key = texelFetch(hitLine, p, int(firsts[i])).x;
+    if (key != 0u && (key - 1u) / 32u < uint(visibleNow.length()))
+      atomicOr(visibleNow[(key - 1u) / 32u], 1u << ((key - 1u) % 32u));
   }
 }

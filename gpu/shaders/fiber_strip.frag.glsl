@@ -112,6 +112,10 @@ layout(location = 16) flat in uint lineCurve;
 #ifdef FT_OCCLUSION_TEST
 layout(location = 17) flat in float lineNearestDepth;
 #endif
+#ifdef FT_VISIBILITY_PASS
+layout(location = 18) flat in uint lineKey;  // ftLineKey (fiber_strip.geom.glsl)
+#endif
+
 // The rectangle point on this fragment's eye ray (pixel centre), and on the
 // eye ray through multisample position i.
 #ifdef FT_FAULT_STRIP_WORLD_ABSOLUTE
@@ -141,6 +145,7 @@ layout(std140, binding = FT_UBO_OCCLUSION) uniform OcclusionBlock { OcclusionPyr
 layout(std430, binding = FT_SSBO_OCCLUSION) readonly buffer OcclusionTexels { float occlusionTexels[]; };
 #ifdef FT_VISIBILITY_PASS
 layout(location = 0) out vec4 hitRecord[FT_VISIBILITY_TARGETS];  // ftPackHit
+layout(location = FT_VISIBILITY_TARGETS) out uint hitLine;  // ftLineKey + 1: the compaction marks the lines seen
 #else
 layout(location = 0) out vec4 color;
 #endif
@@ -784,6 +789,7 @@ void main() {
 #ifdef FT_VISIBILITY_PASS
   // Deferred: the hit, shaded later by fiber_shade.comp.glsl.
   ftPackHit(h, stripType, hitRecord);
+  hitLine = lineKey + 1u;
 #elif defined(FT_STRIP_RAY_PROBE)
   // Red: the worst multisample ray's point; green: the pixel centre's;
   // blue: rays at the outline the coverage test accepts and the cast misses.

@@ -59,6 +59,18 @@ layout(location = 16) flat out uint lineCurve;
 #ifdef FT_OCCLUSION_TEST
 layout(location = 17) flat out float lineNearestDepth;  // no point of the line's capsule is nearer (window depth)
 #endif
+#ifdef FT_VISIBILITY_PASS
+// Two-pass culling (common/occlusion_cull.h ftLineKey): the first draw takes
+// the lines the previous frame saw, the second the others.
+uniform uint twoPassDraw;  // FT_TWO_PASS_*: which lines
+uniform uint lineKeyBits;  // log2 of the marks' count
+layout(std430, binding = FT_SSBO_VISIBLE_LINES) readonly buffer VisibleLines { uint visibleLines[]; };
+layout(location = 18) flat out uint lineKey;  // its key, which the fragment stage writes beside the hit
+bool visibleLineBit(uint bit) {
+  uint word = bit >> 5u;
+  return word < uint(visibleLines.length()) && ((visibleLines[word] >> (bit & 31u)) & 1u) != 0u;
+}
+#endif
 
 // Any unit vector ⟂ e.
 vec3 anyPerpendicular(vec3 e) {
@@ -73,6 +85,10 @@ void main() {
   uint type1 = fiberId[1].w & 0xFFu;
   bool periodChange = (fiberId[0].w >> 16u) != (fiberId[1].w >> 16u);
   if (periodChange && (type0 == FT_FIBER_HAIR || type1 == FT_FIBER_HAIR)) return;
+#ifdef FT_VISIBILITY_PASS
+  uint key = ftLineKey(fiberId[0], lineKeyBits);
+  if (twoPassDraw != FT_TWO_PASS_ALL && visibleLineBit(key) != (twoPassDraw == FT_TWO_PASS_SEEN)) return;
+#endif
 
   vec3 p0 = fiberPosition[0].xyz, p1 = fiberPosition[1].xyz;
   vec3 chord = p1 - p0;
@@ -255,6 +271,9 @@ void main() {
     lineCurve = fiberId[0].x;
 #ifdef FT_OCCLUSION_TEST
     lineNearestDepth = nearest;
+#endif
+#ifdef FT_VISIBILITY_PASS
+    lineKey = key;
 #endif
     gl_Position = clip[i];
     EmitVertex();
