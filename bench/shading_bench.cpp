@@ -22,12 +22,12 @@
 //                                         the default) and deferred shading (the default);
 //                                         counter culled = the choice;
 //                                         a frame after another of the same view, so
-//                                         two-pass culling (the strips the last frame
+//                                         two-pass culling (the lines the last frame
 //                                         saw first, FiberRenderer::setTwoPassCull);
 //   BM_ShadedComputeOnePass/{frame,closeup} the same without two-pass culling (every
 //                                         frame a first frame);
 //   BM_ShadedComputeOrbit/{frame,closeup}  frames while the camera orbits by 2° per
-//                                         frame: two-pass culling from another view's strips;
+//                                         frame: two-pass culling from another view's lines;
 //   BM_ShadedComputeCull/{frame,closeup}   the same, always the occluder pass;
 //   BM_ShadedComputeNoCull/{frame,closeup} the same, never culled (same frame);
 //   BM_ShadedComputeForward/{frame,closeup} culled, shaded in the fragment stage
@@ -398,7 +398,8 @@ int main(int argc, char** argv) {
 
     benchmark::AddCustomContext("gl_renderer", gi.renderer);
     benchmark::AddCustomContext("frame_renderer",
-                                "FiberRenderer: deferred shading, occlusion culling per view (Auto) unless the name says");
+                                "FiberRenderer: deferred shading, occlusion culling per view (Auto), two-pass culling from the "
+                                "previous frame's lines when it drew the same model (on; OnePass: off) unless the name says");
     benchmark::AddCustomContext("load_average_at_start", fmt::format("{:.2f}", loadAverage()));
     benchmark::AddCustomContext("gpu_timing_method", setup.timer->method());
     benchmark::AddCustomContext("model", modelPath);

@@ -569,12 +569,13 @@ double FiberRenderer::occludedFraction() const {
   return double(occluded) / double(level0.size());
 }
 
-std::vector<float> FiberRenderer::readSampleDepths(GLuint texture, int width, int height) const {
-  if (!sampleDepthProgram_)
-    sampleDepthProgram_ = Program(buildProgram({"shaders/sample_depth_read.comp.glsl"}, defines_));
-  const GLuint prog = sampleDepthProgram_.id();
+namespace {
+
+// Copies a 4× multisampled texture, sample by sample (sample_depth_read.comp.glsl).
+template <typename T>
+std::vector<T> readSamples(GLuint prog, GLuint texture, int width, int height) {
   const size_t count = size_t(width) * height * 4;
-  Buffer out = makeBuffer(count * sizeof(float), nullptr);
+  Buffer out = makeBuffer(count * sizeof(T), nullptr);
   glUseProgram(prog);
   glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, texture);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLE_DEPTHS, out.id());
@@ -585,9 +586,36 @@ std::vector<float> FiberRenderer::readSampleDepths(GLuint texture, int width, in
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glBindTextureUnit(FT_TEX_OCCLUDER_DEPTH, 0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_SAMPLE_DEPTHS, 0);
-  std::vector<float> depths(count);
-  glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(count * sizeof(float)), depths.data());
-  return depths;
+  std::vector<T> values(count);
+  glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(count * sizeof(T)), values.data());
+  return values;
+}
+
+}  // namespace
+
+std::vector<float> FiberRenderer::readSampleDepths(GLuint texture, int width, int height) const {
+  if (!sampleDepthProgram_)
+    sampleDepthProgram_ = Program(buildProgram({"shaders/sample_depth_read.comp.glsl"}, defines_));
+  return readSamples<float>(sampleDepthProgram_.id(), texture, width, height);
+}
+
+std::vector<uint32_t> FiberRenderer::readFrameSampleLines() const {
+  if (!deferredTarget_) return {};
+  if (!sampleLineProgram_) {
+    std::vector<std::string> defines = defines_;
+    defines.push_back("FT_SAMPLE_READ_UINT");
+    sampleLineProgram_ = Program(buildProgram({"shaders/sample_depth_read.comp.glsl"}, defines));
+  }
+  return readSamples<uint32_t>(sampleLineProgram_.id(), deferredTarget_->lines.id(), deferredTarget_->width,
+                               deferredTarget_->height);
+}
+
+std::vector<uint32_t> FiberRenderer::readVisibleLines() const {
+  if (!visibleKept_) return {};
+  const Buffer& kept = visibleLines_[1 - visibleNow_];
+  std::vector<uint32_t> words((size_t(1) << visibleBits_) / 32);
+  glGetNamedBufferSubData(kept.id(), 0, GLsizeiptr(words.size() * sizeof(uint32_t)), words.data());
+  return words;
 }
 
 std::vector<float> FiberRenderer::readOccluderSampleDepths() const {

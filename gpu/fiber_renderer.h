@@ -112,6 +112,13 @@ class FiberRenderer {
   // bottom-up): the occluders', or of a two-pass frame the first draw's
   // max depth per pixel. Empty before such a frame.
   std::vector<float> readPyramidLevel0() const;
+  // The last deferred frame's line key + 1 (0: no fiber) per sample, laid out
+  // as readFrameSampleDepths, and the marks its compaction set (bit k: a
+  // sample's line had key k): two-pass culling's next first draw takes the
+  // marked lines, so every key of the first must be marked. Empty before
+  // such a frame.
+  std::vector<uint32_t> readFrameSampleLines() const;
+  std::vector<uint32_t> readVisibleLines() const;
   // Two-pass culling (common/occlusion_cull.h ftLineKey; on by default, for
   // deferred frames with occlusion culling not Off): a frame after another of
   // the same model and size first draws the lines that won a sample of that
@@ -242,6 +249,7 @@ class FiberRenderer {
   OcclusionCull occlusionCull_ = OcclusionCull::Auto;
   Program pyramidProgram_;
   mutable Program sampleDepthProgram_;  // sample_depth_read.comp.glsl (harness read-back)
+  mutable Program sampleLineProgram_;   // the same for the line keys (FT_SAMPLE_READ_UINT)
   std::vector<float> readSampleDepths(GLuint multisampleDepthTexture, int width, int height) const;
   Texture occluderDepth_;
   Framebuffer occluderFbo_;

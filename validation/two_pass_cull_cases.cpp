@@ -1,5 +1,5 @@
 // two_pass_cull_cases.cpp — two-pass culling (common/occlusion_cull.h
-// ftStripKey, FiberRenderer::setTwoPassCull) draws what one pass draws.
+// ftLineKey, FiberRenderer::setTwoPassCull) draws what one pass draws.
 //
 // shading/two-pass-cull/<view>/<path>: the harness model's shaded frame with
 // every approximation of 000 §4 on, drawn four times by a renderer with
@@ -21,14 +21,24 @@
 //  * in the repeated view the first draw left the frame's own depth, so the
 //    pyramid's level 0 must be, at every pixel, the deepest of the frame's
 //    four samples (GL's depth buffer, not the pyramid kernel).
+//  * every covered sample's line (its key, read back from the frame) is
+//    marked for the next frame's first draw, in the first, repeated and
+//    turned frames: what makes the pyramid check's premise true. (Two lines
+//    can leave bit-identical hit records, and the compaction groups samples
+//    by record: marking each group's first line missed 5 samples' lines of
+//    the glove.)
 // The repeated view's frame alone cannot show a wrong pyramid (nothing
 // visible is left for its second draw), hence that check and the turns. It
 // is not vacuous: every frame after the
 // first must be two-pass, and the second draw must drop some of its lines
 // (the pipeline statistics count the triangles). Planted faults: the
 // pyramid kept from the previous frame (`two-pass-stale-pyramid`), the
-// depth cleared between the draws (`two-pass-depth-cleared`) and the
-// compute path's prefilter taking a line's far side (`two-pass-box-far`).
+// depth cleared between the draws (`two-pass-depth-cleared`), the pyramid
+// kernel run before its layout is bound (`two-pass-pyramid-layout`), the
+// compute path's prefilter taking a line's far side (`two-pass-box-far`),
+// the marks of each pixel's first line only (`two-pass-mark-first`), and,
+// on the glove's close-up, the geometry stage's box of a line's rectangle
+// where it draws the larger triangle (`occlusion-box-rectangle`).
 #include <fmt/format.h>
 
 #include <chrono>
@@ -53,6 +63,9 @@ struct DrawnFrame {
   ImageRgbaF image;
   std::vector<float> depth;
   FrameTimings timings;
+  // The covered samples whose line the compaction did not mark for the next
+  // frame's first draw (-1: not read back).
+  long long unmarkedSamples = -1;
 };
 
 DrawnFrame drawFrame(FiberRenderer& renderer, FiberGpu& gpu, FiberPath path) {
@@ -60,6 +73,15 @@ DrawnFrame drawFrame(FiberRenderer& renderer, FiberGpu& gpu, FiberPath path) {
   renderer.draw(gpu, path, kFrameWidth, kFrameHeight, &f.timings);
   f.image = renderer.read();
   f.depth = renderer.readFrameSampleDepths();
+  const std::vector<uint32_t> lines = renderer.readFrameSampleLines(), marks = renderer.readVisibleLines();
+  if (!lines.empty() && !marks.empty()) {
+    f.unmarkedSamples = 0;
+    for (uint32_t line : lines) {
+      if (line == 0) continue;  // no fiber
+      const uint32_t key = line - 1;
+      f.unmarkedSamples += key / 32 >= marks.size() || ((marks[key / 32] >> (key % 32)) & 1u) == 0;
+    }
+  }
   return f;
 }
 
@@ -166,12 +188,19 @@ CaseResult runTwoPassCull(ValidationContext& ctx, const std::string& view, bool 
       Metric{"depths.unread", depthsRead ? 0.0 : 1.0, 0.0, "count", "the frames' per-sample depths were read back"},
       Metric{"two_pass.unused", twoPass ? 0.0 : 1.0, 0.0, "count",
              "the first frame is one pass, the three after it two-pass (else the check is vacuous)"},
+      Metric{"marks.unmarked_samples",
+             double(first.unmarkedSamples < 0 || again.unmarkedSamples < 0 || moved.unmarkedSamples < 0
+                        ? pixels * 4
+                        : first.unmarkedSamples + again.unmarkedSamples + moved.unmarkedSamples),
+             0.0, "count",
+             "covered samples of the first, repeated and turned frames whose line (key, read from the frame) the "
+             "compaction left unmarked: the next frame's first draw would not hold it"},
       Metric{"first.pixels_differing", double(firstDiff.pixels + firstDiff.depthSamples), 0.0, "count",
              "the first frame (the per-view occluder choice) against one pass without culling"},
       Metric{"still.depth_samples_differing", double(againDiff.depthSamples), 0.0, "count",
-             "two-pass from the same view's strips: the depth buffer at every sample as without culling"},
+             "two-pass from the same view's lines: the depth buffer at every sample as without culling"},
       Metric{"still.pixels_differing", double(againDiff.pixels), 0.0, "count",
-             "two-pass from the same view's strips: the first draw holds every strip that wins a sample, in "
+             "two-pass from the same view's lines: the first draw holds every line that wins a sample, in "
              "the one pass's order, so the frames agree bit for bit"},
       Metric{"still.pyramid_texels_differing", pyramidRead ? double(pyramidDiffering) : double(pixels), 0.0, "count",
              "the repeated view's pyramid level 0 at each pixel: the deepest of the frame's four samples"},
@@ -180,7 +209,7 @@ CaseResult runTwoPassCull(ValidationContext& ctx, const std::string& view, bool 
                          "dropped (the depth test keeps the nearest, whatever the order)",
                          kTurnDegrees)},
       Metric{"moved.pixels_differing", double(movedDiff.pixels + backDiff.pixels), 0.0, "count",
-             "pixels where a tie at a sample's 24-bit depth went to the strip drawn first (the depth is equal)",
+             "pixels where a tie at a sample's 24-bit depth went to the line drawn first (the depth is equal)",
              false},
       Metric{"moved.value_max_abs", std::max(movedDiff.maxAbs, backDiff.maxAbs), 0.0, "radiance",
              "at those pixels, the largest difference of a channel (the two lines' shading at one point)", false},

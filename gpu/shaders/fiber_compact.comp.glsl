@@ -64,8 +64,21 @@ void main() {
   for (uint i = 0u; i < n; ++i) {
     entries[base + i].where = uvec4(q, firsts[i], masks[i]);
     entries[base + i].color = vec4(0.0);
-    uint key = texelFetch(hitLine, p, int(firsts[i])).x;
-    if (key != 0u && (key - 1u) / 32u < uint(visibleNow.length()))
+  }
+  // Every covered sample's line, not each entry's first: two lines can leave
+  // bit-identical records (a ray through the joint ball two neighbours of a
+  // fiber share, the same pixel-centre ray for both), and the next frame's
+  // first draw must hold both (on the glove, 5 of 56,542 samples).
+  uint keys[FT_DEFERRED_SAMPLES];
+  for (int s = 0; s < FT_DEFERRED_SAMPLES; ++s) {
+    uint key = r[s][0].w != 0u ? texelFetch(hitLine, p, s).x : 0u;
+    keys[s] = key;
+    bool repeated = false;
+    for (int t = 0; t < s; ++t) repeated = repeated || keys[t] == key;
+#ifdef FT_FAULT_TWO_PASS_MARK_FIRST
+    repeated = repeated || (s > 0 && keys[0] != 0u);  // planted: the pixel's first line only
+#endif
+    if (key != 0u && !repeated && (key - 1u) / 32u < uint(visibleNow.length()))
       atomicOr(visibleNow[(key - 1u) / 32u], 1u << ((key - 1u) % 32u));
   }
 }
