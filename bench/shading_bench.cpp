@@ -134,6 +134,7 @@ void BM_EnvFrame(benchmark::State& state, ft::FiberPath path, const ft::ViewPara
     ft::AppearanceOptions a = g->appearance;
     a.environmentMap = g->envPath;
     g->envRenderer = std::make_unique<ft::FiberRenderer>(g->gl->info());
+    g->envRenderer->setTwoPassCull(true);  // as `render` draws (its default)
     g->envRenderer->setShading(ft::ShadingBakeGpu(g->gl->info()).bake(
         {g->shading, &g->fibers.fit.preset, a, &g->fibers.params, &g->fibers.table}));
     g->envBakeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -216,9 +217,9 @@ void BM_NamedFrame(benchmark::State& state, const ft::ViewParams* view, ft::Fibe
 
 // A named view's frames while the camera orbits the target about the up axis
 // by kOrbitStepDegrees per frame (an interactive user's drag), as render
-// draws them: each frame's two-pass culling starts from the strips the
+// draws them: each frame's two-pass culling starts from the lines the
 // previous frame, from another angle, saw. The static views above reuse the
-// same view's strips, the best case; this is the common one.
+// same view's lines, the best case; this is the common one.
 constexpr float kOrbitStepDegrees = 2.0f;
 
 void BM_OrbitFrame(benchmark::State& state, const ft::Camera* camera) {
@@ -386,6 +387,7 @@ int main(int argc, char** argv) {
     setup.gpu = std::make_unique<ft::FiberGpu>(gi);
     setup.gpu->setModel(setup.buffers, setup.fibers.table);
     setup.renderer = std::make_unique<ft::FiberRenderer>(gi);
+    setup.renderer->setTwoPassCull(true);  // as `render` draws (its default)
     {
       ft::ShadingBakeGpu bake(gi);
       setup.inputs = bake.bake({shading, &setup.fibers.fit.preset, appearance, &setup.fibers.params, &setup.fibers.table});

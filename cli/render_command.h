@@ -45,7 +45,7 @@ struct RenderCommandOptions {
   bool profile = false;
   bool deferred = true;                        // deferred shading (FiberRenderer::setDeferred); --forward: off
   bool occlusionCull = true;                   // false: --no-occlusion-cull (same as --occlusion-cull off)
-  std::string twoPassCullMode = "on";         // two-pass culling from the last frame's strips (FiberRenderer::setTwoPassCull)
+  std::string twoPassCullMode = "on";         // two-pass culling from the last frame's lines (FiberRenderer::setTwoPassCull)
   std::string occlusionCullMode = "auto";     // exact occlusion culling (common/occlusion_cull.h): auto (per view), on, off                        // time the bakes and the frame's phases, cold and warm
   AppearanceOptions appearance;                // 000 §4's approximations (--no-self-shadow, ...)
   GlBackend backend = GlBackend::Auto;

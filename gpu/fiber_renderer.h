@@ -119,8 +119,9 @@ class FiberRenderer {
   // such a frame.
   std::vector<uint32_t> readFrameSampleLines() const;
   std::vector<uint32_t> readVisibleLines() const;
-  // Two-pass culling (common/occlusion_cull.h ftLineKey; on by default, for
-  // deferred frames with occlusion culling not Off): a frame after another of
+  // Two-pass culling (common/occlusion_cull.h ftLineKey; off by default, so
+  // that a frame depends on its inputs only: `render` and the bench turn it
+  // on; for deferred frames with occlusion culling not Off): a frame after another of
   // the same model and size first draws the lines that won a sample of that
   // frame, builds the pyramid from the depth they leave, and then draws the
   // others against it, instead of the occluder pass. The depth buffer is the
@@ -230,7 +231,7 @@ class FiberRenderer {
   // Two-pass culling: the lines seen by the last frame and by this one
   // (FT_SSBO_VISIBLE_LINES bit sets of 2^visibleBits_ marks, swapped after
   // each deferred frame), and what the kept one belongs to.
-  bool twoPass_ = true, visibleKept_ = false;
+  bool twoPass_ = false, visibleKept_ = false;
   Buffer visibleLines_[2];
   int visibleNow_ = 0;
   uint64_t visibleModel_ = 0;
