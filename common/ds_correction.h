@@ -82,12 +82,27 @@ FT_FUNC vec2 ftXiTexCoord(DsCorrectionLayout l, float s, float across) {
 // y = the one above, z = the weight of y. `periodic`: texel k is centred at
 // k/n of the period and the axis wraps (φ); otherwise centred at (k + ½)/n
 // and clamped (u is periodic with centres (k + ½)/n: pass offset ½).
+// FT_XI_PRECISE: a fused x·n − offset rounds once where the CPU rounds
+// twice; the weight then differs by an ulp of c, times the log ratio between
+// neighbouring texels (up to ~20) in the product: 1.1e-4 on NVIDIA's GLSL.
+// The lookup check's kernel (ds_correction_eval.comp.glsl) defines it
+// `precise`, so that it compares the formulas, not two compilers' fusing;
+// the frame leaves it empty: compiled precise, llvmpipe's fragment and
+// compute stages shaded dual scattering up to 4 % apart (462 pixels of
+// shading/deferred/closeup/compute/extras), a discrepancy not run down.
+#ifndef FT_XI_PRECISE
+#define FT_XI_PRECISE
+#endif
 FT_FUNC vec3 ftXiAxisLookup(float x, int n, bool periodic, float offset) {
-  float c = x * float(n) - offset;
+  FT_XI_PRECISE float c = x * float(n) - offset;
   if (periodic) {
     float k0 = floor(c);
-    float w = c - k0;
-    k0 = k0 - float(n) * floor(k0 / float(n));  // into [0, n)
+    FT_XI_PRECISE float w = c - k0;
+    // Into [0, n). GLSL's division may be off by 2.5 ulp, so n/n can floor
+    // to 0: the two corrections keep k0 in range whatever it rounds to.
+    k0 = k0 - float(n) * floor(k0 / float(n));
+    if (k0 >= float(n)) k0 = k0 - float(n);
+    if (k0 < 0.0f) k0 = k0 + float(n);
     float k1 = k0 + 1.0f >= float(n) ? 0.0f : k0 + 1.0f;
     return vec3(k0, k1, w);
   }
@@ -110,8 +125,10 @@ FT_FUNC XiLookup ftXiLookup(DsCorrectionLayout l, vec2 uv, vec2 thetaPhi) {
   float theta = FT_FAULT_XI_AXES_SWAPPED_ON ? thetaPhi.y - FT_PI : thetaPhi.x;  // the paper's naming swap
   float phi = FT_FAULT_XI_AXES_SWAPPED_ON ? thetaPhi.x + FT_PI : thetaPhi.y;
   // θ ∈ [−π, π] (a difference of two angles in [−π/2, π/2]); the samples cover [−π/2, π/2].
-  r.theta = ftXiAxisLookup((theta + 0.5f * FT_PI) / FT_PI, nt, false, 0.5f);
-  r.phi = ftXiAxisLookup(phi / FT_TWO_PI, np, !FT_FAULT_XI_PHI_CLAMPED_ON, 0.0f);
+  // Times the reciprocal, not divided: GLSL's division may be off by 2.5 ulp,
+  // a product of two floats is rounded exactly as the CPU rounds it.
+  r.theta = ftXiAxisLookup((theta + 0.5f * FT_PI) * FT_INV_PI, nt, false, 0.5f);
+  r.phi = ftXiAxisLookup(phi * FT_INV_TWO_PI, np, !FT_FAULT_XI_PHI_CLAMPED_ON, 0.0f);
   return r;
 }
 

@@ -57,6 +57,8 @@ typedef std::uint32_t uint;
 FT_NAMESPACE_BEGIN
 const float FT_PI = 3.14159265358979323846f;
 const float FT_TWO_PI = 6.28318530717958647692f;
+const float FT_INV_PI = 0.318309886183790671538f;      // 1/π, rounded to float by both compilers alike
+const float FT_INV_TWO_PI = 0.159154943091895335769f;  // 1/(2π)
 
 // sqrt-based normalize: GLSL's normalize may use an approximate inversesqrt,
 // which would make the two sides drift apart along a long frame propagation.

@@ -34,10 +34,13 @@ using Clock = std::chrono::steady_clock;
 // ---- Tolerances, each with its reason ----------------------------------------------
 // The lookup interpolates logarithms (|log| ≲ 25 here: ξ up to 1e4, Ψ down
 // to 1e-7) and decodes with one exp: an error δ in the summed logarithm is a
-// relative error δ of the product. CPU vs GPU: the same float weights and
-// host-encoded logarithms; GLSL's exp is good to (3 + 2|x|) ulp (GLSL 4.50
-// §4.7.1), ~6e-6 at |x| = 25, plus float sums of 32 terms of that size:
-// 2e-5 relative.
+// relative error δ of the product. CPU vs GPU: the same float weights (the
+// coordinates FT_PRECISE and multiplied by reciprocals, common/ds_correction.h)
+// and host-encoded logarithms, summed unfused on both sides; GLSL's exp is
+// good to (3 + 2|x|) ulp (GLSL 4.50 §4.7.1), ~6e-6 at |x| = 25, plus float
+// sums of 32 terms of that size: 2e-5 relative. (Before the weights were
+// made precise, NVIDIA's GLSL fused x·N − ½ and rounded the divisions its own
+// way: 1.1e-4 on an H200, 2026-12-04; llvmpipe fuses nothing: 3e-6.)
 constexpr double kCrossTolerance = 2e-5;
 // Lookups vs the interpolation written here in double: the lookup's float
 // coordinate c = x·N − ½ carries an ulp of x·N (4e-6 at N_u = 27, x ≤ 1.25),

@@ -711,6 +711,13 @@ CaseResult runFidelity(ValidationContext& ctx, const std::string& fabric, const 
 // light is mostly the diffuse term, and 1.9e-2 with fleece; the ground-truth
 // cases pass it.
 constexpr double kClosedFormTolerance = 2e-4;
+// The GPU casts through its interpolated ray point, which GLSL does not place
+// exactly on the pixel centre (an NVIDIA H200 measured 1.8–2.4e-4 on the thin
+// fiber for this reason; llvmpipe interpolates in full float): the error
+// gated is what remains beyond the closed form's own change over a ray this
+// far off the centre (docs/real-gpu.md). At most 7e-4 on the thin fiber's
+// rims, below the planted faults' 1.0e-3–1.9e-2.
+constexpr double kRayOffsetPx = 1.0 / 1024.0;
 
 // The cap variant: the core fiber ends at the image centre, and pixels past
 // its end see the capsule's end ball: shaded with the ball's radial normal and
@@ -806,7 +813,7 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
 
   const auto t1 = Clock::now();
   const glm::dmat4 toWorld = glm::inverse(glm::dmat4(cam.projection()) * glm::dmat4(cam.view()));
-  double worst = 0.0;
+  double worst = 0.0, worstRaw = 0.0, worstMoved = 0.0;
   uint64_t bad = 0, measured = 0;
   std::string worstAt;
   // Three columns, and rows from the axis to 3/4 of the radius on both sides
@@ -840,30 +847,50 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
     for (int dy : rows) {
       if (x >= cam.width - 2) continue;  // no hair column found: counted as missing
       const int y = cam.height / 2 + dy;
-      const glm::dvec2 ndc(2.0 * (x + 0.5) / cam.width - 1.0, 1.0 - 2.0 * (y + 0.5) / cam.height);
-      const glm::dvec4 nh = toWorld * glm::dvec4(ndc, -1.0, 1.0), fh = toWorld * glm::dvec4(ndc, 1.0, 1.0);
-      const glm::dvec3 o = glm::dvec3(nh) / nh.w, d = glm::normalize(glm::dvec3(fh) / fh.w - o);
-      // The cylinder y² + z² = radius² (axis x), or for the cap the ball
-      // |x|² = radius² at the fiber's end (the origin): the nearer root. The
-      // ball's normal is radial from the end point; the fiber's tangent stays x.
-      const glm::dvec3 dq = cap ? d : glm::dvec3(0.0, d.y, d.z), oq = cap ? o : glm::dvec3(0.0, o.y, o.z);
-      const double a = glm::dot(dq, dq), b = glm::dot(oq, dq), cc = glm::dot(oq, oq) - radius * radius;
-      const double disc = b * b - a * cc;
-      if (disc <= 0.0) continue;
-      const glm::dvec3 hit = o + d * ((-b - std::sqrt(disc)) / a);
-      if (cap && hit.x <= 0.0) continue;  // on the tube, not the ball (not expected at these columns)
-      const glm::dvec3 n = glm::normalize(cap ? hit : glm::dvec3(0.0, hit.y, hit.z));
-      const glm::dvec3 expected = oracle::fiberRadiance(f, l, glm::dvec3(1.0, 0.0, 0.0), n, -d);
+      // The closed form along the eye ray through window point (wx, wy), y down.
+      auto closedForm = [&](double wx, double wy, glm::dvec3& out) {
+        const glm::dvec2 ndc(2.0 * wx / cam.width - 1.0, 1.0 - 2.0 * wy / cam.height);
+        const glm::dvec4 nh = toWorld * glm::dvec4(ndc, -1.0, 1.0), fh = toWorld * glm::dvec4(ndc, 1.0, 1.0);
+        const glm::dvec3 o = glm::dvec3(nh) / nh.w, d = glm::normalize(glm::dvec3(fh) / fh.w - o);
+        // The cylinder y² + z² = radius² (axis x), or for the cap the ball
+        // |x|² = radius² at the fiber's end (the origin): the nearer root. The
+        // ball's normal is radial from the end point; the fiber's tangent stays x.
+        const glm::dvec3 dq = cap ? d : glm::dvec3(0.0, d.y, d.z), oq = cap ? o : glm::dvec3(0.0, o.y, o.z);
+        const double a = glm::dot(dq, dq), b = glm::dot(oq, dq), cc = glm::dot(oq, oq) - radius * radius;
+        const double disc = b * b - a * cc;
+        if (disc <= 0.0) return false;
+        const glm::dvec3 hit = o + d * ((-b - std::sqrt(disc)) / a);
+        if (cap && hit.x <= 0.0) return false;  // on the tube, not the ball (not expected at these columns)
+        const glm::dvec3 n = glm::normalize(cap ? hit : glm::dvec3(0.0, hit.y, hit.z));
+        out = oracle::fiberRadiance(f, l, glm::dvec3(1.0, 0.0, 0.0), n, -d);
+        return true;
+      };
+      glm::dvec3 expected;
+      if (!closedForm(x + 0.5, y + 0.5, expected)) continue;
+      // How far the closed form moves when the ray is kRayOffsetPx off the
+      // pixel centre, per channel (the most over four offsets).
+      glm::dvec3 moved(0.0);
+      for (int k = 0; k < 4; ++k) {
+        glm::dvec3 e;
+        const double ox = k < 2 ? (k == 0 ? -kRayOffsetPx : kRayOffsetPx) : 0.0;
+        const double oy = k < 2 ? 0.0 : (k == 2 ? -kRayOffsetPx : kRayOffsetPx);
+        if (closedForm(x + 0.5 + ox, y + 0.5 + oy, e)) moved = glm::max(moved, glm::abs(e - expected));
+      }
       const float* px = img.at(x, y);
       if (px[3] < 1.0f) continue;  // an edge pixel (not expected this far inside)
       ++measured;
       const double peak = std::max({expected.x, expected.y, expected.z});
       for (int ch = 0; ch < 3; ++ch) {
-        const double e = std::abs(double(px[ch]) - expected[ch]) / std::max(expected[ch], 1e-3 * peak);
+        const double scale = std::max(expected[ch], 1e-3 * peak);
+        const double raw = std::abs(double(px[ch]) - expected[ch]);
+        const double e = std::max(0.0, raw - moved[ch]) / scale;
+        worstRaw = std::max(worstRaw, raw / scale);
+        worstMoved = std::max(worstMoved, moved[ch] / scale);
         if (!std::isfinite(px[ch])) ++bad;
         if (!(e <= worst)) {
           worst = std::isnan(e) ? e : std::max(worst, e);
-          worstAt = fmt::format("pixel ({}, {}) channel {}: GPU {:.6g}, eq. 6-7 {:.6g}", x, y, ch, px[ch], expected[ch]);
+          worstAt = fmt::format("pixel ({}, {}) channel {}: GPU {:.6g}, eq. 6-7 {:.6g} (moves {:.3g} over {:g} px)", x, y,
+                                ch, px[ch], expected[ch], moved[ch], kRayOffsetPx);
         }
       }
     }
@@ -872,6 +899,10 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
   r.metrics.push_back(nonFiniteMetric("cpu", 0, "closed-form radiances"));
   r.metrics.push_back(Metric{"radiance.max_rel", worst, kClosedFormTolerance, "relative",
                              "GPU against eq. 6-7 written out without common/ (shading_cases.cpp)"});
+  r.metrics.push_back(Metric{"radiance.max_rel_at_centre", worstRaw, 0.0, "relative",
+                             "informational: the same without the ray offset's allowance", false});
+  r.metrics.push_back(Metric{"radiance.offset_allowance", worstMoved, 0.0, "relative",
+                             "informational: the largest allowance", false});
   r.metrics.push_back(Metric{"pixels.measured", double(measured), double(expectedPixels), "pixels",
                              fmt::format("informational: {} sample pixels, all fully covered", expectedPixels),
                              false});

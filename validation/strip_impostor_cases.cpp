@@ -22,7 +22,10 @@
 // coverage test accepts may miss castCapsule, whose quadratic rounds
 // otherwise at the outline — a miss through the shading ray dropped the whole
 // fragment (docs/shaded-frame.md, "Wider occluders"). The planted fault
-// coverage-no-margin (coverage to the full radius) must fail it.
+// coverage-no-margin (coverage to the full radius) must fail it. It sweeps
+// over 0.9–1 r as well: at a tapered line's thinner end the cast missed rays
+// deep inside the outline (a structural miss, found when an NVIDIA H200 missed
+// one at the bound); the planted fault cast-taper-miss brings that back.
 //
 // shading/strip-shape/<view>/<path>: a line shorter than 1.5x its width and
 // under 8 px wide is drawn as one triangle that contains its rectangle

@@ -2,6 +2,8 @@
 // as a fragment would: ftXiLookup, the eight log-encoded corners of each
 // texture (ftXiEncode, done on the host), ftXiDecode of their weighted sums:
 // the product ξ_M ξ_N Ψ_M Ψ_N of 001 eq. 11 (common/ds_correction.h).
+// The lookup's coordinates unfused, as the CPU rounds them (common/ds_correction.h).
+#define FT_XI_PRECISE precise
 #include "common/constants.h"
 #include "common/ds_correction.h"
 #include "shaders/flat_dispatch.glsl"
@@ -24,7 +26,9 @@ void main() {
   XiLookup l = ftXiLookup(dsLayout, q.xy, q.zw);
   // Per corner log ξ + log Ψ first: the two run to ±15 and cancel, and a
   // float sum of the parts would keep their rounding (common/ds_correction.h).
-  vec3 m = vec3(0.0), n = vec3(0.0);
+  // precise: summed as the CPU sums them (reference/ds_correction.cpp), not
+  // fused into w·x + m, so the two sides differ by GLSL's exp alone.
+  precise vec3 m = vec3(0.0), n = vec3(0.0);
   for (int c = 0; c < 8; ++c) {
     float wm = ftXiCornerWeight(l, l.theta, c), wn = ftXiCornerWeight(l, l.phi, c);
     uint im = ftXiCorner(dsLayout, l, l.theta, c), iN = ftXiCorner(dsLayout, l, l.phi, c);
