@@ -226,33 +226,29 @@ bool castCapsule(vec3 o, out FiberHit h) {
       if (u >= 0.0 && u <= 1.0) { best = s; part = 0; }
     }
   }
-  for (int i = 0; i < 2; ++i) {
-    vec3 oc = o - (i == 0 ? lineP0 : lineP1);
-    float w = FT_COVERAGE_SCALE * (i == 0 ? lineHalfWidth.x : lineHalfWidth.y);
-    float b = dot(oc, d), disc = b * b - (dot(oc, oc) - w * w);
-    if (disc < 0.0) continue;
-    float s = -b - sqrt(disc);
-    if (s < best) { best = s; part = 1 + i; }
-  }
-  // A tapered line: the tube's radius at the ray's closest approach exceeds
-  // the thinner end's. A ray within it there that enters the cylinder past
-  // that end crosses the end's plane within the same radius of the end, so
-  // the end ball of that radius takes it — capsuleCovers accepts such a ray,
-  // and the cast missed it (4 pixels of the glove close-up, found by sweeping
-  // the probe's rays over 0.9–1 r). Only where nothing else was hit: every
-  // other hit is as before.
-#ifndef FT_FAULT_CAST_TAPER_MISS
-  if (part < 0 && tubeRadius > 0.0) {
+  // The end balls. A tapered line: the tube's radius at the ray's closest
+  // approach exceeds the thinner end's, and a ray within it there that enters
+  // the cylinder past that end crosses the end's plane within the same radius
+  // of the end — capsuleCovers accepts it, and the balls of the ends' own
+  // radii missed it (4 pixels of the glove close-up, found by sweeping the
+  // probe's rays over 0.9–1 r). So where nothing was hit, a second round takes
+  // the balls with the tube's radius; every other hit is as before. (A loop,
+  // not a branch: llvmpipe skips its second round when no lane needs it.)
+  for (int round = 0; round < 2; ++round) {
+    float floorRadius = round == 0 ? 0.0 : tubeRadius;
     for (int i = 0; i < 2; ++i) {
       vec3 oc = o - (i == 0 ? lineP0 : lineP1);
-      float w = max(FT_COVERAGE_SCALE * (i == 0 ? lineHalfWidth.x : lineHalfWidth.y), tubeRadius);
+      float w = max(FT_COVERAGE_SCALE * (i == 0 ? lineHalfWidth.x : lineHalfWidth.y), floorRadius);
       float b = dot(oc, d), disc = b * b - (dot(oc, oc) - w * w);
       if (disc < 0.0) continue;
       float s = -b - sqrt(disc);
       if (s < best) { best = s; part = 1 + i; }
     }
-  }
+#ifdef FT_FAULT_CAST_TAPER_MISS
+    break;  // the balls of the ends' own radii only
 #endif
+    if (part >= 0 || !(tubeRadius > 0.0)) break;
+  }
   if (part < 0) return false;
   h.position = o + best * d;
   float u = clamp(dot(h.position - lineP0, axis) / len2, 0.0, 1.0);
