@@ -883,8 +883,9 @@ CaseResult runClosedForm(ValidationContext& ctx, const std::string& fabric, cons
       for (int ch = 0; ch < 3; ++ch) {
         const double scale = std::max(expected[ch], 1e-3 * peak);
         const double raw = std::abs(double(px[ch]) - expected[ch]);
-        const double e = std::max(0.0, raw - moved[ch]) / scale;
-        worstRaw = std::max(worstRaw, raw / scale);
+        // NaN stays NaN (std::max(0.0, NaN) would read 0), as the raw error does.
+        const double e = std::isnan(raw) ? raw : std::max(0.0, raw - moved[ch]) / scale;
+        worstRaw = std::isnan(raw) ? raw : std::max(worstRaw, raw / scale);
         worstMoved = std::max(worstMoved, moved[ch] / scale);
         if (!std::isfinite(px[ch])) ++bad;
         if (!(e <= worst)) {
