@@ -91,8 +91,11 @@
 #define FT_DEFERRED_SAMPLES 4      // the shaded target's samples per pixel
 #define FT_TEX_HIT_RECORD0 1       // sampler2DMS: record k at unit FT_TEX_HIT_RECORD0 + k
 #define FT_TEX_HIT_LINE (FT_TEX_HIT_RECORD0 + FT_VISIBILITY_TARGETS)  // usampler2DMS: ftLineKey + 1 of the hit, 0: none
-#define FT_SSBO_DEFERRED_LIST 73   // uvec4 header (x: entries), then (uvec4 x, y, sample, mask; vec4 colour) per entry
-#define FT_WG_DEFERRED_COMPACT 8   // 8 × 8 pixels per work group
+#define FT_SSBO_DEFERRED_LIST 73   // uvec4 header (x: entries, y: tiles), uvec4 (x, y, sample, mask) per entry, then the tiles
+#define FT_IMAGE_SHADED 0          // image2DMS rgba32f: the shaded target's colour, which the shading kernel writes per sample
+#define FT_DEFERRED_TILE 8u        // the compaction's tiles: 8 × 8 pixels, one work group each
+#define FT_WG_DEFERRED_COMPACT (FT_DEFERRED_TILE * FT_DEFERRED_TILE)
+#define FT_WG_DEFERRED_TILES 64    // tiles per work group of the tile listing
 #define FT_WG_DEFERRED_SHADE 64
 
 // Soft yarn shadows by PCSS (common/pcss.h, 001 §4.5 eq. 17, docs/soft-shadows.md;

@@ -28,19 +28,22 @@ Buffer makeBuffer(size_t bytes, const void* data) {
 // A 4× multisampled colour + depth target and its single-sampled resolve.
 struct MultisampleTarget {
   Framebuffer ms = Framebuffer::create(), resolve = Framebuffer::create();
-  Renderbuffer msColor = Renderbuffer::create(), resolveColor = Renderbuffer::create();
+  Renderbuffer resolveColor = Renderbuffer::create();
+  Texture color;  // a texture, which deferred shading's kernel writes (FT_IMAGE_SHADED)
   Texture depth;  // a texture, which the two-pass culling's pyramid reads
+  GLenum colorFormat;
   int width, height;
 
-  MultisampleTarget(int w, int h, GLenum colorFormat) : width(w), height(h) {
-    glNamedRenderbufferStorageMultisample(msColor.id(), 4, colorFormat, w, h);
-    GLuint tex = 0;
-    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
-    depth = Texture(tex);
-    glTextureStorage2DMultisample(tex, 4, GL_DEPTH_COMPONENT24, w, h, GL_TRUE);
+  MultisampleTarget(int w, int h, GLenum format) : colorFormat(format), width(w), height(h) {
+    GLuint tex[2] = {0, 0};
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 2, tex);
+    color = Texture(tex[0]);
+    depth = Texture(tex[1]);
+    glTextureStorage2DMultisample(tex[0], 4, colorFormat, w, h, GL_TRUE);
+    glTextureStorage2DMultisample(tex[1], 4, GL_DEPTH_COMPONENT24, w, h, GL_TRUE);
     glNamedRenderbufferStorage(resolveColor.id(), colorFormat, w, h);
-    glNamedFramebufferRenderbuffer(ms.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColor.id());
-    glNamedFramebufferTexture(ms.id(), GL_DEPTH_ATTACHMENT, tex, 0);
+    glNamedFramebufferTexture(ms.id(), GL_COLOR_ATTACHMENT0, tex[0], 0);
+    glNamedFramebufferTexture(ms.id(), GL_DEPTH_ATTACHMENT, tex[1], 0);
     glNamedFramebufferRenderbuffer(resolve.id(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColor.id());
   }
   void begin(glm::vec4 clear) const {
@@ -94,8 +97,9 @@ struct DeferredTarget {
     }
     glNamedFramebufferDrawBuffers(fbo.id(), FT_VISIBILITY_TARGETS + 1, buffers);
     glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth, 0);
-    // At most one entry per sample: a header, then 32 bytes per entry.
-    list = makeBuffer(16 + size_t(w) * h * FT_DEFERRED_SAMPLES * 32, nullptr);
+    // A header, at most one entry per sample (16 bytes each), then the tiles (16 bytes each).
+    const size_t tiles = size_t((w + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE) * ((h + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE);
+    list = makeBuffer(16 + (size_t(w) * h * FT_DEFERRED_SAMPLES + tiles) * 16, nullptr);
   }
 };
 
@@ -867,8 +871,12 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
     timings->shadeMs += std::chrono::duration<double, std::milli>(afterVisibility - t).count();
     timings->shadeCpuMs += processCpuMs() - cpu;
   }
-  // 2. The compaction: each pixel's distinct records, one entry each.
-  if (!compactProgram_) compactProgram_ = Program(buildProgram({"shaders/fiber_compact.comp.glsl"}, defines_));
+  // 2. The compaction: each pixel's distinct records, one entry each, over
+  // the tiles that hold a covered sample (listed first, one word per sample read).
+  if (!compactProgram_) {
+    compactTilesProgram_ = Program(buildProgram({"shaders/fiber_compact_tiles.comp.glsl"}, defines_));
+    compactProgram_ = Program(buildProgram({"shaders/fiber_compact.comp.glsl"}, defines_));
+  }
   const uint32_t header[4] = {0u, 0u, 0u, 0u};
   dt.list.update(header, sizeof(header));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_DEFERRED_LIST, dt.list.id());
@@ -876,24 +884,33 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   glBindTextureUnit(FT_TEX_HIT_LINE, dt.lines.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, seeing.id());
   glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-  glUseProgram(compactProgram_.id());
-  glProgramUniform2ui(compactProgram_.id(), glGetUniformLocation(compactProgram_.id(), "size"), GLuint(width),
-                      GLuint(height));
-  glDispatchCompute((width + FT_WG_DEFERRED_COMPACT - 1) / FT_WG_DEFERRED_COMPACT,
-                    (height + FT_WG_DEFERRED_COMPACT - 1) / FT_WG_DEFERRED_COMPACT, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  const uint32_t tileBase = uint32_t(width) * uint32_t(height) * FT_DEFERRED_SAMPLES;
+  const size_t allTiles = size_t((width + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE) *
+                          ((height + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE);
+  for (const Program* p : {&compactTilesProgram_, &compactProgram_}) {
+    setUniform(p->id(), "size", glm::uvec2(width, height));
+    setUniform(p->id(), "tileBase", tileBase);
+  }
+  dispatchFlat(compactTilesProgram_.id(), allTiles, FT_WG_DEFERRED_TILES, maxGroupsY_, "fiber_compact_tiles");
+  uint32_t count[4] = {};
+  glGetNamedBufferSubData(dt.list.id(), 0, sizeof(count), count);
+  if (count[1] > allTiles)
+    throw std::runtime_error(fmt::format("deferred shading: {} tiles listed of {}", count[1], allTiles));
+  dispatchFlat(compactProgram_.id(), size_t(count[1]) * FT_WG_DEFERRED_COMPACT, FT_WG_DEFERRED_COMPACT, maxGroupsY_,
+               "fiber_compact");
   glBindTextureUnit(FT_TEX_HIT_LINE, 0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, 0);
   visibleNow_ = 1 - visibleNow_;
   visibleKept_ = true;
   visibleModel_ = fibers.modelVersion();
-  uint32_t count[4] = {};
   glGetNamedBufferSubData(dt.list.id(), 0, sizeof(count), count);
   const size_t capacity = size_t(width) * height * FT_DEFERRED_SAMPLES;
   if (count[0] > capacity)
     throw std::runtime_error(fmt::format("deferred shading: {} entries listed for {} samples", count[0], capacity));
   deferredEntries_ = count[0];
-  // 3. The shading of the list: the forward pass's shadeFiber, in a compute stage.
+  // 3. The shading of the list: the forward pass's shadeFiber, in a compute
+  // stage, each entry's colour stored to its samples of the shaded target
+  // (cleared to the background; the depth stays the visibility pass's, for the flyaways).
   Program& shade = shadeProgram_[ds ? 1 : 0][env ? 1 : 0][pcss ? 1 : 0];
   if (!shade) {
     std::vector<std::string> defines = defines_;
@@ -903,25 +920,14 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
     shade = Program(buildProgram({"shaders/fiber_shade.comp.glsl"}, defines));
   }
   fibers.bindYarn();  // the view, the yarn parameters and the curves (still bound: made sure)
+  glBindImageTexture(FT_IMAGE_SHADED, shadedTarget_->color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                     shadedTarget_->colorFormat);
   dispatchFlat(shade.id(), deferredEntries_, FT_WG_DEFERRED_SHADE, maxGroupsY_, "fiber_shade");
+  glBindImageTexture(FT_IMAGE_SHADED, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, shadedTarget_->colorFormat);
   for (int k = 0; k < FT_VISIBILITY_TARGETS; ++k) glBindTextureUnit(FT_TEX_HIT_RECORD0 + k, 0);
-  // 4. The resolve: each entry's colour to its samples of the shaded target
-  // (one point per entry, gl_SampleMask; no depth test: the depth is the
-  // visibility pass's, kept for the flyaways).
-  if (!resolveProgram_)
-    resolveProgram_ =
-        Program(buildProgram({"shaders/fiber_resolve.vert.glsl", "shaders/fiber_resolve.frag.glsl"}, defines_));
-  if (!resolveVao_) resolveVao_ = VertexArray::create();
   glBindFramebuffer(GL_FRAMEBUFFER, shadedTarget_->ms.id());
-  glDisable(GL_DEPTH_TEST);
-  glUseProgram(resolveProgram_.id());
-  glProgramUniform2ui(resolveProgram_.id(), glGetUniformLocation(resolveProgram_.id(), "size"), GLuint(width),
-                      GLuint(height));
-  glBindVertexArray(resolveVao_.id());
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  if (deferredEntries_ > 0) glDrawArrays(GL_POINTS, 0, GLsizei(deferredEntries_));
-  glBindVertexArray(0);
-  glEnable(GL_DEPTH_TEST);
+  // The flyaway pass blends over the stored colours, read() blits them.
+  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   if (timings) {  // the compaction's read-back waits for it: timed here, not by the caller
     glFinish();
     timings->deferredMs +=

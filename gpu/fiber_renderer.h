@@ -46,7 +46,7 @@ struct FrameTimings {
   double generateMs = 0;    // fiber generation (compute path; the tessellation path generates while drawing)
   double depthMs = 0;       // the depth pre-pass (capsule coverage and depth only)
   double shadeMs = 0;       // the shaded pass over the visible capsules (deferred: the visibility pass)
-  double deferredMs = 0;    // deferred shading: the compaction, the shading of the list and the resolve
+  double deferredMs = 0;    // deferred shading: the compaction and the shading of the list into the target
   // CPU time of the process (all threads, processCpuMs) in the occluder pass,
   // the shaded (visibility) pass and the whole frame: the work, less
   // sensitive than wall time to other jobs on a shared machine.
@@ -242,9 +242,8 @@ class FiberRenderer {
   size_t twoPassIndexCapacity_ = 0;
   bool deferred_ = true;
   size_t deferredEntries_ = 0;
-  Program compactProgram_, resolveProgram_;
+  Program compactTilesProgram_, compactProgram_;
   Program shadeProgram_[2][2][2];  // [FT_FRAME_DUAL_SCATTERING][FT_FRAME_ENVIRONMENT][FT_FRAME_PCSS]
-  VertexArray resolveVao_;
   std::unique_ptr<struct DeferredTarget> deferredTarget_;
   // Occlusion culling: the occluder depth (4× multisampled texture), the pyramid.
   OcclusionCull occlusionCull_ = OcclusionCull::Auto;

@@ -248,7 +248,7 @@ RULES = [
     # two-pass culling (ftStripKey, the same pyramid) against one pass, before and after a turn.
     (r"occlusion_(cull|pyramid)|sample_depth_read|two_pass", "^shading/(occlusion|two-pass)-cull/", ["occlusion_cull_test"]),
     # Deferred shading's kernels (the compaction also marks the strips two-pass culling reuses).
-    (r"fiber_(compact|shade|resolve)|deferred_resources", "^shading/", ["fiber_trace_test"]),
+    (r"fiber_(compact|shade)|deferred_resources", "^shading/", ["fiber_trace_test"]),
     # The shaded frame: fragment shading, the renderer, the shading inputs, the ground truth.
     (r"fiber_shading\.h|fiber_strip\.(frag|geom)|fiber_renderer|shading_inputs|fiber_trace|lighting\.cpp|fabric\.cpp",
      "^(shading|appearance|closeup)/|strip-width", ["fiber_trace_test", "bcsdf_test"]),

@@ -12,7 +12,6 @@
 // (the light crosses the yarn before it reaches any visible point) the
 // visible fibers are dark; lit from the camera's side they are mostly lit.
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -31,6 +30,7 @@
 #include "scene/lighting.h"
 #include "scene/yarn_fibers.h"
 #include "scene/yarn_radius.h"
+#include "validation/case_support.h"
 #include "validation/harness.h"
 
 namespace ft {
@@ -484,7 +484,7 @@ struct DsYarn {
   double bakePeriod = 0.0;  // P of the preset at its own scale
   Camera camera;
   double halfWidthX = 0.0;  // half the image's width at z = 0
-  std::filesystem::path dir;  // the synthetic ξ files
+  std::filesystem::path dir;  // the synthetic ξ files (a ScratchDirectory of the run)
 };
 
 const DsYarn& dsYarn(ValidationContext& ctx) {
@@ -514,8 +514,8 @@ const DsYarn& dsYarn(ValidationContext& ctx) {
     y.camera.eye = {0.0f, 0.0f, float(distance)};
     y.camera.zNear = float(distance - 4.0 * y.period);
     y.camera.zFar = float(distance + 4.0 * y.period);
-    y.dir = std::filesystem::temp_directory_path() / fmt::format("fibertwin-ds-frame-{}", ::getpid());
-    std::filesystem::create_directories(y.dir);
+    y.dir = ctx.cached(CacheKey<ScratchDirectory>{"scratch/ds-frame"}, [] { return ScratchDirectory("fibertwin-ds-frame"); })
+                .path();
     return y;
   });
 }

@@ -2,11 +2,11 @@
 #include "validation/fidelity_xi.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <vector>
 
 #include "reference/ds_correction.h"
+#include "validation/case_support.h"
 
 namespace ft {
 
@@ -26,9 +26,9 @@ std::filesystem::path fidelityXiFile(ValidationContext& ctx, const YarnPreset& p
     std::vector<DsDirectionSums> sums;
     for (int d = 0; d < scene.directionCount(); ++d) sums.push_back(scene.trace(d));
     const DsCorrectionTextures t = factorDsCorrection(scene.layout(), sums, 16.0 * 2 * 2);
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / fmt::format("fibertwin-ds-fidelity-{}", ::getpid());
-    std::filesystem::create_directories(dir);
-    const std::filesystem::path file = dir / (preset.name + "-" + fabric + ".bin");
+    const ScratchDirectory& dir = ctx.cached(CacheKey<ScratchDirectory>{"scratch/ds-fidelity"},
+                                             [] { return ScratchDirectory("fibertwin-ds-fidelity"); });
+    const std::filesystem::path file = dir.path() / (preset.name + "-" + fabric + ".bin");
     writeDsCorrection(file, t, fmt::format(R"({{"yarn": "{}", "fabric": "{}"}})", preset.name, fabric));
     return file;
   });

@@ -8,14 +8,14 @@ layout(binding = FT_TEX_HIT_RECORD0 + 1) uniform sampler2DMS hitRecord1;
 layout(binding = FT_TEX_HIT_RECORD0 + 2) uniform sampler2DMS hitRecord2;
 layout(binding = FT_TEX_HIT_RECORD0 + 3) uniform sampler2DMS hitRecord3;
 layout(binding = FT_TEX_HIT_RECORD0 + 4) uniform sampler2DMS hitRecord4;
-// header.x: the entry count; then per entry (x, y, the sample whose record is shaded, sample mask) and its colour.
-struct DeferredEntry {
-  uvec4 where;
-  vec4 color;
-};
+// header.x: the entry count, header.y: the tile count; then per entry (x, y,
+// the sample whose record is shaded, sample mask), with room for one entry
+// per sample of the target; after that room, from entries[tileBase] on
+// (W·H·FT_DEFERRED_SAMPLES, a uniform of the kernels that use it), the tiles
+// that hold a covered sample (fiber_compact_tiles.comp.glsl), (x, y) in tiles.
 layout(std430, binding = FT_SSBO_DEFERRED_LIST) buffer DeferredList {
   uvec4 header;
-  DeferredEntry entries[];
+  uvec4 entries[];
 };
 
 // The hit record at sample s of pixel p (fiber_strip.frag.glsl ftPackHit).

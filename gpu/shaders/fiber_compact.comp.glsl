@@ -7,12 +7,18 @@
 // The forward pass shades once per fragment and writes that colour to the
 // fragment's covered samples, so a fragment's samples share one record and
 // the deferred frame shades each visible fragment once, as the forward did.
+// One work group per tile that fiber_compact_tiles.comp.glsl listed: the other
+// tiles have no covered sample, hence no entry.
 #include "common/constants.h"
 #include "shaders/deferred_resources.glsl"
+#include "shaders/flat_dispatch.glsl"
 
-layout(local_size_x = FT_WG_DEFERRED_COMPACT, local_size_y = FT_WG_DEFERRED_COMPACT) in;
+layout(local_size_x = FT_WG_DEFERRED_COMPACT) in;
 
 uniform uvec2 size;
+uniform uint tileBase;  // deferred_resources.glsl
+uniform uint groupsX;
+uniform uint itemCount;
 // Two-pass culling (common/occlusion_cull.h ftLineKey): the line of each
 // hit, and the bit set of the lines this frame saw, for the next frame.
 layout(binding = FT_TEX_HIT_LINE) uniform usampler2DMS hitLine;
@@ -32,7 +38,11 @@ bool sameRecord(uvec4 a[FT_VISIBILITY_TARGETS], uvec4 b[FT_VISIBILITY_TARGETS]) 
 }
 
 void main() {
-  uvec2 q = gl_GlobalInvocationID.xy;
+  uint k = flatInvocationIndex(groupsX, FT_WG_DEFERRED_COMPACT);
+  if (k >= itemCount) return;
+  uint i = k % FT_WG_DEFERRED_COMPACT;
+  uvec2 q = entries[tileBase + k / FT_WG_DEFERRED_COMPACT].xy * FT_DEFERRED_TILE +
+            uvec2(i % FT_DEFERRED_TILE, i / FT_DEFERRED_TILE);
   if (q.x >= size.x || q.y >= size.y) return;
   ivec2 p = ivec2(q);
   uvec4 r[FT_DEFERRED_SAMPLES][FT_VISIBILITY_TARGETS];
@@ -61,10 +71,7 @@ void main() {
 #endif
   if (n == 0u) return;
   uint base = atomicAdd(header.x, n);
-  for (uint i = 0u; i < n; ++i) {
-    entries[base + i].where = uvec4(q, firsts[i], masks[i]);
-    entries[base + i].color = vec4(0.0);
-  }
+  for (uint i = 0u; i < n; ++i) entries[base + i] = uvec4(q, firsts[i], masks[i]);
   // Every covered sample's line, not each entry's first: two lines can leave
   // bit-identical records (a ray through the joint ball two neighbours of a
   // fiber share, the same pixel-centre ray for both), and the next frame's

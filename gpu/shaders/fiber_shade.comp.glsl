@@ -2,8 +2,11 @@
 // FiberRenderer::drawDeferred): shadeFiber of the forward pass
 // (fiber_strip.frag.glsl, included without its fragment stage) once per
 // entry of the compaction's list (fiber_compact.comp.glsl), on the hit record
-// the visibility pass wrote at the entry's sample. fiber_resolve.*.glsl then
-// writes the colour to the entry's samples.
+// the visibility pass wrote at the entry's sample; the colour goes to the
+// entry's samples of the shaded target, every other sample keeps the clear
+// colour, as in the forward frame. (Stored here, not by a draw of one point per
+// entry with gl_SampleMask: on llvmpipe that draw cost 85-95 ms at the whole
+// glove, docs/shaded-frame.md.)
 #include "common/constants.h"
 #define FT_DEFERRED_SHADE
 #include "fiber_strip.frag.glsl"
@@ -11,6 +14,7 @@
 #include "shaders/flat_dispatch.glsl"
 
 layout(local_size_x = FT_WG_DEFERRED_SHADE) in;
+layout(binding = FT_IMAGE_SHADED, rgba32f) writeonly uniform image2DMS shadedImage;
 
 uniform uint groupsX;
 uniform uint itemCount;
@@ -18,7 +22,7 @@ uniform uint itemCount;
 void main() {
   uint k = flatInvocationIndex(groupsX, FT_WG_DEFERRED_SHADE);
   if (k >= itemCount) return;
-  uvec4 w = entries[k].where;
+  uvec4 w = entries[k];
   ivec2 p = ivec2(w.xy);
   int s = int(w.z);
 #ifdef FT_FAULT_DEFERRED_WRONG_SAMPLE
@@ -32,5 +36,11 @@ void main() {
   // A textured core (the condition of the visibility pass's applyCoreTexture):
   // the record holds what the texture's normal and direction are computed from.
   if (type == FT_FIBER_CORE && (shading.flags.w & FT_APPEARANCE_CORE_TEXTURE) != 0u) finishCoreTexture(h);
-  entries[k].color = vec4(shadeFiberOfType(h, type), 1.0);
+  vec4 color = vec4(shadeFiberOfType(h, type), 1.0);
+  uint mask = w.w;
+#ifdef FT_FAULT_DEFERRED_RESOLVE_ALL_SAMPLES
+  mask = (1u << FT_DEFERRED_SAMPLES) - 1u;  // every sample of the pixel, whoever won it
+#endif
+  for (int t = 0; t < FT_DEFERRED_SAMPLES; ++t)
+    if ((mask & (1u << t)) != 0u) imageStore(shadedImage, p, t, color);
 }
