@@ -410,7 +410,7 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("fabric", fabric);
     benchmark::AddCustomContext("self_shadow", appearance.selfShadow ? "on (000 §4.1, 128x128x16)" : "off");
     benchmark::AddCustomContext("ao", fmt::format("{} (000 §4.2, 128x128, GPU marched bake)", ft::aoModeName(appearance.ao)));
-    benchmark::AddCustomContext("shadow_map", appearance.shadowMap ? fmt::format("on (000 §4.1, {0}x{0} per light)", appearance.shadowMapSize) : "off");
+    benchmark::AddCustomContext("shadow_map", appearance.shadowMap ? fmt::format("on (000 §4.1, {0}x{0} per light, {1})", appearance.shadowMapSize, appearance.shadowMapFilter == FT_SHADOW_FILTER_PCF ? "2x2 PCF" : "nearest texel") : "off");
     benchmark::AddCustomContext("viewport", fmt::format("{}x{}, 4x MSAA, RGBA32F", setup.width, setup.height));
     // 000 Table 1 (Wu & Yuksel 2019, GTX 1080, 1280×960), ms as close / worst / full view:
     // not comparable hardware, context only.

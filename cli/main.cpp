@@ -267,6 +267,11 @@ void addAppearanceOptions(CLI::App* app, ft::AppearanceOptions& a, AppearanceOpt
                 "without the yarn shadow map of 000 §4.1 (yarns shadowing other yarns)");
   app->add_option("--shadow-map-size", a.shadowMapSize,
                   "shadow-map texels per side, per light (default 2048)");
+  app->add_option("--shadow-map-filter", a.shadowMapFilter,
+                  "the shadow map's lookup: pcf (2 x 2 percentage-closer filtering: soft texel edges; default) or "
+                  "nearest (the nearest texel: hard texel-sized steps; 000 is silent on filtering)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, uint32_t>{{"pcf", FT_SHADOW_FILTER_PCF},
+                                                                          {"nearest", FT_SHADOW_FILTER_NEAREST}}));
   app->add_flag("--dual-scattering", a.dualScattering,
                 "dual scattering (Zinke 2008, 001 §4.1 eq. 8) per light: f + d_b f_back^dir (docs/shaded-frame.md)");
   app->add_option("--ds-correction", text.dsCorrection,

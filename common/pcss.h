@@ -136,13 +136,24 @@ FT_FUNC float ftPcssRotation(int x, int y, uint layer) {
 // T̃ of a receiver at map coordinates m = (u, v, stored depth) of one N × N
 // layer that starts at texel index `base`, for a cone of half-angle α
 // (tanAlpha); `depthScale`: world units per unit of stored depth (2 h_z),
-// `texel`: world size of a texel. tan α = 0: the hard lookup (V_map).
+// `texel`: world size of a texel. tan α = 0: the hard lookup (V_map) with
+// the map's own filter (FT_SHADOW_FILTER_*, common/shadow_map.h), as the
+// frame without soft shadows looks it up.
 FT_FUNC float ftPcssFiltered(vec3 m, int n, uint base, uint layer, float depthScale, float texel, float tanAlpha,
-                             int source FT_PCSS_TEXELS) {
+                             uint mapFilter, int source FT_PCSS_TEXELS) {
   if (m.x < 0.0f || m.x >= 1.0f || m.y < 0.0f || m.y >= 1.0f) return 1.0f;  // outside the map: no yarn there
   vec2 pc = vec2(m.x, m.y) * float(n);
   int cx = min(int(pc.x), n - 1), cy = min(int(pc.y), n - 1);
   float zr = m.z;
+  if (tanAlpha <= 0.0f && mapFilter == FT_SHADOW_FILTER_PCF) {
+    vec4 f = ftShadowPcfFootprint(m, n);
+    int x0 = ftShadowPcfTexel(f.x, 0, n), x1 = ftShadowPcfTexel(f.x, 1, n);
+    int y0 = ftShadowPcfTexel(f.y, 0, n), y1 = ftShadowPcfTexel(f.y, 1, n);
+    return ftShadowPcfCombine(f, ftShadowVisibility(zr, FT_PCSS_FETCH(source, base + uint(y0 * n + x0))),
+                              ftShadowVisibility(zr, FT_PCSS_FETCH(source, base + uint(y0 * n + x1))),
+                              ftShadowVisibility(zr, FT_PCSS_FETCH(source, base + uint(y1 * n + x0))),
+                              ftShadowVisibility(zr, FT_PCSS_FETCH(source, base + uint(y1 * n + x1))));
+  }
   if (tanAlpha <= 0.0f) return ftShadowVisibility(zr, FT_PCSS_FETCH(source, base + uint(cy * n + cx)));
   float rotation = ftPcssRotation(cx, cy, layer);
   // 1. Blocker search: the cone's cross-section at the near plane (depth 0).
@@ -186,7 +197,7 @@ FT_FUNC float ftPcssLightVisibility(ShadowMapParams sm, PcssParams pc, int i, ve
   vec3 m = ftShadowNdcToMap(ftShadowNdc(sm, ftShadowLightSpace(sm, i, p)));
   int n = int(sm.count.y);
   uint base = ftShadowMapIndex(sm, i, 0, 0);
-  return ftPcssFiltered(m, n, base, uint(i), 2.0f * sm.extent.y, sm.extent.z, pc.lightTanAlpha[i],
+  return ftPcssFiltered(m, n, base, uint(i), 2.0f * sm.extent.y, sm.extent.z, pc.lightTanAlpha[i], sm.count.z,
                         FT_PCSS_SOURCE_LIGHTS FT_PCSS_TEXELS_ARG);
 }
 
@@ -203,8 +214,9 @@ FT_FUNC float ftPcssLobeVisibility(PcssParams pc, int j, vec3 p FT_PCSS_TEXELS) 
   vec3 m = ftShadowNdcToMap(vec3(l.x / pc.extent.x, l.y / pc.extent.x, l.z / pc.extent.y));
   int n = int(pc.count.y);
   uint base = uint(layer) * pc.count.y * pc.count.y;
+  // A lobe always has a cone (tan α > 0); at zero it would read its one texel.
   return ftPcssFiltered(m, n, base, uint(layer), 2.0f * pc.extent.y, pc.extent.z, pc.lobeCone[j].x,
-                        FT_PCSS_SOURCE_LOBES FT_PCSS_TEXELS_ARG);
+                        FT_SHADOW_FILTER_NEAREST, FT_PCSS_SOURCE_LOBES FT_PCSS_TEXELS_ARG);
 }
 
 FT_NAMESPACE_END

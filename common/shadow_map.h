@@ -26,9 +26,11 @@
 namespace ft {
 inline bool ftFaultShadowMapFrontDepth = false;
 inline bool ftFaultShadowMapNoRemap = false;
+inline bool ftFaultShadowPcfWeightsSwapped = false;
 }
 #define FT_FAULT_SHADOW_MAP_FRONT_DEPTH_ON ::ft::ftFaultShadowMapFrontDepth
 #define FT_FAULT_SHADOW_MAP_NO_REMAP_ON ::ft::ftFaultShadowMapNoRemap
+#define FT_FAULT_SHADOW_PCF_WEIGHTS_SWAPPED_ON ::ft::ftFaultShadowPcfWeightsSwapped
 #else
 #ifdef FT_FAULT_SHADOW_MAP_FRONT_DEPTH
 #define FT_FAULT_SHADOW_MAP_FRONT_DEPTH_ON true
@@ -40,6 +42,11 @@ inline bool ftFaultShadowMapNoRemap = false;
 #else
 #define FT_FAULT_SHADOW_MAP_NO_REMAP_ON false
 #endif
+#ifdef FT_FAULT_SHADOW_PCF_WEIGHTS_SWAPPED
+#define FT_FAULT_SHADOW_PCF_WEIGHTS_SWAPPED_ON true
+#else
+#define FT_FAULT_SHADOW_PCF_WEIGHTS_SWAPPED_ON false
+#endif
 #endif
 
 #define FT_SHADOW_MAP_MAX_LIGHTS 4
@@ -48,6 +55,9 @@ inline bool ftFaultShadowMapNoRemap = false;
 #define FT_SHADOW_MAP_SUBSEGMENTS 8u      // tube capsules per Catmull-Rom segment (notes A5 [F])
 #define FT_SHADOW_MAP_BIAS_TEXELS 1.5f    // slope bias: depth change over 1.5 texels (notes A5 [F])
 #define FT_SHADOW_MAP_MISS -3.0e38f
+// The lookup's filter (ShadowMapParams::count.z; 000 says nothing about filtering):
+#define FT_SHADOW_FILTER_NEAREST 0u  // the nearest texel's comparison: hard texel-sized steps
+#define FT_SHADOW_FILTER_PCF 1u      // 2 × 2 percentage-closer filtering (notes A5 [F]), the default
 
 FT_NAMESPACE_BEGIN
 
@@ -58,7 +68,7 @@ struct ShadowMapParams {
   vec4 lightZ[FT_SHADOW_MAP_MAX_LIGHTS];  // the light's propagation: −(direction towards the light)
   vec4 extent;  // x h (half side, world), y h_z (half depth), z texel size 2h/N (world), w N (texels per side)
   vec4 tube;    // x R_tube = W, y the ply radius (fault), z bias texels, w unused
-  uvec4 count;  // x lights, y N, zw unused
+  uvec4 count;  // x lights, y N, z the lookup's filter (FT_SHADOW_FILTER_*), w unused
 };
 FT_ASSERT_OFFSET(ShadowMapParams, lightY, 64)
 FT_ASSERT_OFFSET(ShadowMapParams, extent, 192)
@@ -178,6 +188,33 @@ FT_FUNC float ftShadowVisibility(float pointDepth, float mapDepth) {
 // Index of texel (column x, row y) of light i in the stored maps (layer-major, rows bottom-up as GL).
 FT_FUNC uint ftShadowMapIndex(ShadowMapParams m, int i, int x, int y) {
   return (uint(i) * m.count.y + uint(y)) * m.count.y + uint(x);
+}
+
+// 2 × 2 percentage-closer filtering (Reeves et al. 1987, in the bilinear form
+// of hardware shadow samplers) [F]: the point's depth is compared with the
+// four texels whose centres surround its map position, and the four verdicts
+// (ftShadowVisibility) are weighted bilinearly, so a shadow's edge becomes a
+// ramp one texel wide instead of a texel-sized step (docs/shadow-map.md).
+// The texel centres read lie within √2 texels of the point, inside the
+// depth's bias of FT_SHADOW_MAP_BIAS_TEXELS. For map coordinates in an
+// n × n map, returns the footprint's lower-left texel (column, row; −1 at the
+// map's low edge) in xy and the weights towards the next column and row in zw.
+FT_FUNC vec4 ftShadowPcfFootprint(vec3 mapCoord, int n) {
+  vec2 f = vec2(mapCoord.x, mapCoord.y) * float(n) - vec2(0.5f);
+  vec2 c = floor(f);
+  vec2 w = f - c;
+  if (FT_FAULT_SHADOW_PCF_WEIGHTS_SWAPPED_ON) w = vec2(1.0f) - w;  // planted: each texel weighted as the other
+  return vec4(c.x, c.y, w.x, w.y);
+}
+
+// Column (or row) c + k, k = 0 or 1, of the footprint, clamped to the map's n texels.
+FT_FUNC int ftShadowPcfTexel(float c, int k, int n) { return clamp(int(c) + k, 0, n - 1); }
+
+// The filtered visibility from the verdicts at the footprint's texels
+// (v10: one column on, v01: one row on, v11: both).
+FT_FUNC float ftShadowPcfCombine(vec4 footprint, float v00, float v10, float v01, float v11) {
+  float wx = footprint.z, wy = footprint.w;
+  return (1.0f - wy) * ((1.0f - wx) * v00 + wx * v10) + wy * ((1.0f - wx) * v01 + wx * v11);
 }
 
 FT_NAMESPACE_END

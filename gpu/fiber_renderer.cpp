@@ -256,7 +256,7 @@ void FiberRenderer::drawShadowMap(FiberGpu& fibers) {
   }
   m.extent = glm::vec4(radius, radius, 2.0f * radius / float(n), float(n));
   m.tube = glm::vec4(w, inputs_.density.plyRadius, FT_SHADOW_MAP_BIAS_TEXELS, 0.0f);
-  m.count = glm::uvec4(uint32_t(lights), n, 0u, 0u);
+  m.count = glm::uvec4(uint32_t(lights), n, inputs_.shadowMapFilter, 0u);
   shadowParams_ = m;
   shadowModel_ = fibers.modelVersion();
   shadowInputs_ = inputsVersion_;

@@ -178,9 +178,17 @@ float shadowMapLookup(const ShadowMapParams& m, std::span<const float> texels, i
   const vec3 c = ftShadowNdcToMap(ftShadowNdc(m, ftShadowLightSpace(m, light, p)));
   const ivec4 t = ftShadowTexel(m, c);
   if (t.w < 0) return 1.0f;
-  const uint32_t k = ftShadowMapIndex(m, light, t.x, t.y);
-  if (k >= texels.size()) throw std::out_of_range(fmt::format("shadowMapLookup: texel {} of {}", k, texels.size()));
-  return ftShadowVisibility(c.z, texels[k]);
+  const auto verdict = [&](int x, int y) {
+    const uint32_t k = ftShadowMapIndex(m, light, x, y);
+    if (k >= texels.size()) throw std::out_of_range(fmt::format("shadowMapLookup: texel {} of {}", k, texels.size()));
+    return ftShadowVisibility(c.z, texels[k]);
+  };
+  if (m.count.z != FT_SHADOW_FILTER_PCF) return verdict(t.x, t.y);
+  const int n = int(m.count.y);
+  const vec4 f = ftShadowPcfFootprint(c, n);
+  const int x0 = ftShadowPcfTexel(f.x, 0, n), x1 = ftShadowPcfTexel(f.x, 1, n);
+  const int y0 = ftShadowPcfTexel(f.y, 0, n), y1 = ftShadowPcfTexel(f.y, 1, n);
+  return ftShadowPcfCombine(f, verdict(x0, y0), verdict(x1, y0), verdict(x0, y1), verdict(x1, y1));
 }
 
 }  // namespace ft

@@ -48,8 +48,8 @@ class ShadowMapReference {
   std::unique_ptr<Impl> impl_;
 };
 
-// V_map of light i at p in a read-back map (FiberRenderer::readShadowMap):
-// nearest texel, as the frame looks it up.
+// V_map of light i at p in a read-back map (FiberRenderer::readShadowMap),
+// filtered as the frame looks it up (m.count.z: nearest texel or 2 × 2 PCF).
 float shadowMapLookup(const ShadowMapParams& m, std::span<const float> texels, int light, glm::vec3 p);
 
 }  // namespace ft

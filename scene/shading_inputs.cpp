@@ -46,7 +46,11 @@ void frameShadowMap(ShadingInputs& in, const YarnDensityParams& density, const A
   if (o.shadowMapSize < 16 || o.shadowMapSize > 8192)
     throw InputError(fmt::format("--shadow-map-size: {} must be in [16, 8192]", o.shadowMapSize));
   in.density = density;  // the tube radius is its reach W (notes §0.3, A5)
+  if (o.shadowMapFilter != FT_SHADOW_FILTER_PCF && o.shadowMapFilter != FT_SHADOW_FILTER_NEAREST)
+    throw InputError(fmt::format("--shadow-map-filter: {} is neither pcf ({}) nor nearest ({})", o.shadowMapFilter,
+                                 FT_SHADOW_FILTER_PCF, FT_SHADOW_FILTER_NEAREST));
   in.shadowMapSize = o.shadowMapSize;
+  in.shadowMapFilter = o.shadowMapFilter;
   in.params.flags.w |= FT_APPEARANCE_SHADOW_MAP;
 }
 

@@ -57,6 +57,7 @@ struct AppearanceOptions {
   // per frame by FiberRenderer; N × N texels per light.
   bool shadowMap = true;
   uint32_t shadowMapSize = FT_SHADOW_MAP_DEFAULT_SIZE;
+  uint32_t shadowMapFilter = FT_SHADOW_FILTER_PCF;  // the lookup: FT_SHADOW_FILTER_PCF or _NEAREST
   // 001 §4.1 eq. 8 / §4.3 eq. 11: dual scattering (Zinke et al. 2008) per
   // light, off by default (every picture without it stays bit-identical);
   // with a ξ bake (`fibertwin bake ds-correction --out FILE`) its ξ_M ξ_N and
@@ -127,6 +128,7 @@ struct ShadingInputs {
   // frame with tubes of radius density.supportRadius (W); on when the bit
   // FT_APPEARANCE_SHADOW_MAP of params.flags.w is set.
   uint32_t shadowMapSize = 0;
+  uint32_t shadowMapFilter = FT_SHADOW_FILTER_PCF;  // ShadowMapParams::count.z of the frame's lookup
   // ---- dual scattering (001 §4.1, §4.3; FT_APPEARANCE_DUAL_SCATTERING) ----
   // The DS table of the frame's fabric (FT_DS_ROWS vec4 per texel,
   // FT_DS_TABLE_SIZE texels, texel-major; each side's own bake), and the ξ

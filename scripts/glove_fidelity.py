@@ -27,7 +27,8 @@ ROWS = [  # (name, render flags)
     ("none", ["--no-core-texture", "--no-self-shadow", "--ao", "none", "--no-shadow-map"]),
     ("self-shadow", ["--no-core-texture", "--ao", "none", "--no-shadow-map"]),
     ("core texture + self-shadow", ["--ao", "none", "--no-shadow-map"]),
-    ("core texture + self-shadow + shadow map", ["--ao", "none"]),
+    ("core texture + self-shadow + shadow map (nearest texel)", ["--ao", "none", "--shadow-map-filter", "nearest"]),
+    ("core texture + self-shadow + shadow map (2 × 2 PCF, the default)", ["--ao", "none"]),
     ("everything (+ AO fit)", []),
 ]
 # Towards the light: the render's default (camera side, from above), and from

@@ -235,6 +235,8 @@ RULES = [
     (r"core_texture", "^(appearance/)?core-texture/", ["core_texture_test"]),
     (r"self_shadow", "^(selfshadow|appearance)/", ["self_shadow_test"]),
     (r"ambient_occlusion", "^ao/", ["ambient_occlusion_test"]),
+    # The yarn shadow map (000 §4.1), its lookup's filter, and PCSS (001 §4.5), which reads the same maps.
+    (r"shadow_map|shadow_scene|pcss", "^(shadowmap|pcss)/", ["pcss_test"]),
     # Dual scattering (001 §4.1) and its correction ξ (§4.3): ξ's bake reads the DS tables.
     (r"ds_correction", "^xi/", ["ds_correction_test"]),
     (r"dual_scattering", "^(ds|xi)/", ["dual_scattering_test", "ds_correction_test"]),

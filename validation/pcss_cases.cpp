@@ -455,7 +455,7 @@ CaseResult runEmbree(ValidationContext& ctx) {
 
 // ---- pcss/frame/<path> ----
 // The shaded frame with soft shadows (FT_FRAME_PCSS): α = 0 is the hard
-// lookup (ftPcssFiltered falls back to V_map), so the frame must equal the
+// lookup (ftPcssFiltered falls back to V_map, filtered as the map says), so the frame must equal the
 // frame without soft shadows bit for bit; α = 10° must change it (the case
 // is not vacuous) without a NaN.
 CaseResult runFrame(ValidationContext& ctx, bool tessellation) {

@@ -490,12 +490,16 @@ std::vector<Approximation> fidelityRows() {
   // Everything of 000 §3.2 and §4.1 together (AO is judged under ambient light below).
   AppearanceOptions all = coreShadow;
   all.shadowMap = true;
+  // The same with the map looked up at the nearest texel instead of 2 × 2 PCF (the default).
+  AppearanceOptions allNearest = all;
+  allNearest.shadowMapFilter = FT_SHADOW_FILTER_NEAREST;
   return {{"none", AppearanceOptions::none()},
           {"self-shadow", selfShadow},
           {"core-texture", core},
           {"core-texture+self-shadow", coreShadow},
           {"shadow-map", shadowMap},
           {"self-shadow+shadow-map", both},
+          {"core-texture+self-shadow+shadow-map-nearest", allNearest},
           {"core-texture+self-shadow+shadow-map", all}};
 }
 

@@ -15,6 +15,10 @@
 //                       map against Embree shadow rays through round curves of
 //                       radius W (reference/shadow_map_reference.h), outside a
 //                       1.5-texel band around shadow edges;
+//  shadowmap/pcf       the lookup's 2 × 2 percentage-closer filtering against a
+//                       tent filter over the texel centres written here: the
+//                       projection, the texel grid and the weights without
+//                       common/, on the yarn-over-yarn map of C2;
 //  shadowmap/kept/<path> the frame keeps the map while only the camera moves
 //                       and redraws it when the model changes: each frame
 //                       equals, bit for bit, the frame with a freshly drawn map.
@@ -114,6 +118,24 @@ YarnBuffers isolatedYarn(double w) {
   return buildYarnBuffers(m);
 }
 
+// A case of this file's group, not tied to a GPU path.
+CaseResult shadowMapCase(const char* name) {
+  CaseResult r;
+  r.name = name;
+  r.group = "shadowmap";
+  r.path = "shadowmap";
+  return r;
+}
+
+// C2's scene: yarn A along x at height h over yarn B along y at z = 0.
+YarnBuffers yarnOverYarn(double w, double h) {
+  YarnModel m;
+  m.name = "yarn over yarn";
+  m.curves.push_back(straightCurve({-6.0 * w, 0, h}, {6.0 * w, 0, h}, 12));
+  m.curves.push_back(straightCurve({0, -10.0 * w, 0}, {0, 10.0 * w, 0}, 20));
+  return buildYarnBuffers(m);
+}
+
 glm::dvec3 unit(glm::dvec3 v) { return v / std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
 
 // Fraction of the points a map shadows, per batch of ≤ 4 lights.
@@ -129,10 +151,7 @@ struct Shadowed {
 // lies behind every point of the tube by construction (notes A5), the bias
 // covers the texel a lookup reads instead.
 CaseResult runAcne(ValidationContext& ctx) {
-  CaseResult r;
-  r.name = "shadowmap/acne";
-  r.group = "shadowmap";
-  r.path = "shadowmap";
+  CaseResult r = shadowMapCase("shadowmap/acne");
   const Cotton& c = cotton(ctx);
   const YarnBuffers yarn = isolatedYarn(c.w);
   std::vector<glm::dvec3> lights;
@@ -187,10 +206,7 @@ CaseResult runAcne(ValidationContext& ctx) {
 // (uniform on the sphere, grazing ones included). Tolerance 0: the far side
 // of an isolated straight tube lies behind every point inside it.
 CaseResult runOwnFibers(ValidationContext& ctx) {
-  CaseResult r;
-  r.name = "shadowmap/own-fibers";
-  r.group = "shadowmap";
-  r.path = "shadowmap";
+  CaseResult r = shadowMapCase("shadowmap/own-fibers");
   const Cotton& c = cotton(ctx);
   const YarnBuffers yarn = isolatedYarn(c.w);
   std::mt19937 rng(1234u);
@@ -245,17 +261,10 @@ CaseResult runOwnFibers(ValidationContext& ctx) {
 // one map texel as it falls on the line (texel / cos θ) for the width (each
 // edge is decided at a texel centre: ±½ texel each) and for the centre.
 CaseResult runWidth(ValidationContext& ctx) {
-  CaseResult r;
-  r.name = "shadowmap/width";
-  r.group = "shadowmap";
-  r.path = "shadowmap";
+  CaseResult r = shadowMapCase("shadowmap/width");
   const Cotton& c = cotton(ctx);
   const double w = c.w, h = 4.0 * w, zp = 0.95 * w;
-  YarnModel m;
-  m.name = "yarn over yarn";
-  m.curves.push_back(straightCurve({-6.0 * w, 0, h}, {6.0 * w, 0, h}, 12));
-  m.curves.push_back(straightCurve({0, -10.0 * w, 0}, {0, 10.0 * w, 0}, 20));
-  const YarnBuffers yarn = buildYarnBuffers(m);
+  const YarnBuffers yarn = yarnOverYarn(w, h);
   const std::vector<double> angles = {0.0, 30.0, 60.0};
   std::vector<glm::vec3> lights;
   for (double deg : angles) lights.push_back(glm::vec3(0.0f, float(std::sin(deg * kPi / 180.0)), float(std::cos(deg * kPi / 180.0))));
@@ -299,6 +308,80 @@ CaseResult runWidth(ValidationContext& ctx) {
   return r;
 }
 
+// The lookup's filter (FT_SHADOW_FILTER_PCF, the default): random points
+// around C2's shadow edges, looked up with shadowMapLookup (the frame's
+// lookup in C++, common/shadow_map.h), against the same filter written out
+// here in double: the orthographic projection from the map's parameters, the
+// texel centres at (i + ½)/N, and each texel's verdict weighted by the tent
+// max(0, 1 − |x − c|) of the point's distance to its centre in texels (the
+// bilinear weights in another form), texels past the map's edge clamped.
+// Tolerance 1e-3: the lookup's float coordinates move the weights by ~1e-5
+// at 256 texels; a wrong weight moves a value near an edge by up to 1.
+CaseResult runPcf(ValidationContext& ctx) {
+  CaseResult r = shadowMapCase("shadowmap/pcf");
+  const Cotton& c = cotton(ctx);
+  const double w = c.w, h = 4.0 * w;
+  const YarnBuffers yarn = yarnOverYarn(w, h);
+  const std::vector<glm::vec3> lights = {glm::vec3(0.0f, 0.0f, 1.0f), glm::normalize(glm::vec3(0.2f, 0.5f, 0.85f)),
+                                         glm::normalize(glm::vec3(-0.4f, -0.6f, 0.7f))};
+  const MapRun map = drawMap(ctx, yarn, c.setup, c.preset, lights, FT_SHADOW_MAP_CI_SIZE);
+  const ShadowMapParams& q = map.params;
+  const int n = int(q.count.y);
+  const auto oracle = [&](int light, glm::dvec3 p) {
+    const auto axis = [&](const glm::vec4& a) { return double(a.x) * p.x + double(a.y) * p.y + double(a.z) * p.z + double(a.w); };
+    const double u = axis(q.lightX[light]) / q.extent.x * 0.5 + 0.5, v = axis(q.lightY[light]) / q.extent.x * 0.5 + 0.5;
+    const double depth = axis(q.lightZ[light]) / q.extent.y * 0.5 + 0.5;
+    if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) return 1.0;
+    const double x = u * n, y = v * n;  // in texels; texel i's centre at i + ½
+    double sum = 0.0;
+    for (int j = int(std::floor(y - 0.5)); j <= int(std::floor(y - 0.5)) + 1; ++j)
+      for (int i = int(std::floor(x - 0.5)); i <= int(std::floor(x - 0.5)) + 1; ++i) {
+        const double weight = std::max(0.0, 1.0 - std::abs(x - (i + 0.5))) * std::max(0.0, 1.0 - std::abs(y - (j + 0.5)));
+        const int ci = std::clamp(i, 0, n - 1), cj = std::clamp(j, 0, n - 1);
+        const double stored = map.texels[(size_t(light) * n + size_t(cj)) * n + size_t(ci)];
+        sum += weight * ((stored >= 1.0 || depth <= stored) ? 1.0 : 0.0);
+      }
+    return sum;
+  };
+  std::mt19937 rng(4321u);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  size_t points = 0, fractional = 0, nonFinite = map.nonFinite;
+  double worst = 0.0, sum = 0.0;
+  std::string where;
+  for (int light = 0; light < int(lights.size()); ++light)
+    for (int k = 0; k < 20000; ++k) {
+      // Over the lower yarn's upper half, where the upper one's shadow and its edges fall.
+      const glm::dvec3 p((2.0 * u01(rng) - 1.0) * w, (2.0 * u01(rng) - 1.0) * 9.0 * w, u01(rng) * 0.99 * w);
+      const float got = shadowMapLookup(q, map.texels, light, glm::vec3(p));
+      const double want = oracle(light, p);
+      nonFinite += std::isfinite(got) ? 0 : 1;
+      const double err = std::isfinite(got) ? std::abs(double(got) - want) : 1e30;
+      ++points;
+      fractional += (want > 0.0 && want < 1.0) ? 1 : 0;
+      sum += err;
+      if (err > worst) {
+        worst = err;
+        where = fmt::format("light {}, point ({:.4g}, {:.4g}, {:.4g}): lookup {}, written out {}", light, p.x, p.y, p.z,
+                            got, want);
+      }
+    }
+  r.gpuMilliseconds = map.milliseconds;
+  r.gpuTiming = "steady_clock: depth pass at 256² + read-back";
+  r.metrics = {
+      Metric{"nonfinite.gpu", double(nonFinite), 0.0, "count", "NaN/Inf are failures"},
+      Metric{"oracle.max_abs", worst, 1e-3, "visibility",
+             "2 × 2 PCF against the tent filter over the texel centres written out in the case"},
+      Metric{"oracle.mean_abs", sum / double(std::max<size_t>(points, 1)), 0.0, "visibility", "informational", false},
+      Metric{"fractional.fraction", double(fractional) / double(std::max<size_t>(points, 1)), 0.0, "fraction",
+             "informational: points within a texel of a shadow edge (filtered to 0 < V < 1)", false},
+  };
+  if (q.count.z != FT_SHADOW_FILTER_PCF) r.error = "the renderer's map is not looked up with PCF (count.z)";
+  else if (fractional == 0) r.error = "no point near a shadow edge: the comparison would see no filtering";
+  r.details = fmt::format("{} points × {} lights, map {}²; worst: {}", points / lights.size(), lights.size(), n, where);
+  r.finish();
+  return r;
+}
+
 // C5: the built-in scene, cotton1 fitted to it, two lights, the map fine enough to resolve the tubes (below). Points: uniform in balls of radius 0.95 W around the
 // tube centre lines (where fibers lie). The reference traces Embree shadow
 // rays through round curves of radius W; points whose reference visibility
@@ -309,10 +392,7 @@ CaseResult runWidth(ValidationContext& ctx) {
 // and where the capsules of the reference and the depth pass's tube pieces
 // differ (internal balls at joints).
 CaseResult runEmbree(ValidationContext& ctx) {
-  CaseResult r;
-  r.name = "shadowmap/embree";
-  r.group = "shadowmap";
-  r.path = "shadowmap";
+  CaseResult r = shadowMapCase("shadowmap/embree");
   // The built-in scene whatever --model says (notes A5 C5: "a glove.bcc
   // subset or the built-in scene"): on whole models of tightly packed yarns
   // the bias shows (docs/shadow-map.md: fiber.bcc 1.96 %, all map-lit /
@@ -333,8 +413,16 @@ CaseResult runEmbree(ValidationContext& ctx) {
   const ShadowTubes tubes = shadowTubes(scene.buffers, w);
   const ShadowMapReference reference(tubes);
   const std::vector<glm::vec3> points = pointsInTubes(tubes, w, 8000, 99u);
-  size_t compared = 0, mismatched = 0, band = 0, shadowed = 0;
+  size_t compared = 0, mismatched = 0, band = 0, shadowed = 0, filteredMismatched = 0;
+  double filteredSum = 0.0;
   std::string first;
+  // The gate judges the map's depths, one texel's verdict each: the band is
+  // drawn for that lookup (±1.5 texels along the map's axes). The frame's
+  // 2 × 2 PCF reads texels up to √2 texels away diagonally, past the band, so
+  // its verdicts against Embree are reported beside it, not gated
+  // (shadowmap/pcf checks the filter itself).
+  ShadowMapParams nearest = map.params;
+  nearest.count.z = FT_SHADOW_FILTER_NEAREST;
   const float texel = map.params.extent.z, reach = 1.5f * texel;
   for (size_t i = 0; i < lights.size(); ++i) {
     const glm::vec3 x(map.params.lightX[i]), y(map.params.lightY[i]), z(map.params.lightZ[i]);
@@ -354,7 +442,10 @@ CaseResult runEmbree(ValidationContext& ctx) {
       }
       ++compared;
       shadowed += truth[k] < 0.5f ? 1 : 0;
-      const float gpu = shadowMapLookup(map.params, map.texels, int(i), points[k]);
+      const float filtered = shadowMapLookup(map.params, map.texels, int(i), points[k]);
+      filteredSum += std::abs(double(filtered) - double(truth[k]));
+      filteredMismatched += std::abs(filtered - truth[k]) >= 0.5f ? 1 : 0;
+      const float gpu = shadowMapLookup(nearest, map.texels, int(i), points[k]);
       if (gpu != truth[k]) {
         ++mismatched;
         if (first.empty())
@@ -369,7 +460,11 @@ CaseResult runEmbree(ValidationContext& ctx) {
   r.metrics = {
       Metric{"nonfinite.gpu", double(map.nonFinite), 0.0, "count", "NaN/Inf are failures"},
       Metric{"embree.mismatch_fraction", compared ? double(mismatched) / double(compared) : 1.0, 0.01, "fraction",
-             "map vs Embree shadow rays outside the 1.5-texel edge band (notes A5 C5)"},
+             "map (nearest texel) vs Embree shadow rays outside the 1.5-texel edge band (notes A5 C5)"},
+      Metric{"pcf.mismatch_fraction", compared ? double(filteredMismatched) / double(compared) : 1.0, 0.0, "fraction",
+             "informational: the frame's 2 × 2 PCF lookup off Embree by ≥ ½ at the same points", false},
+      Metric{"pcf.mean_abs", compared ? filteredSum / double(compared) : 1.0, 0.0, "visibility",
+             "informational: mean |PCF lookup − Embree| at the same points", false},
       Metric{"band.fraction", double(band) / double(std::max<size_t>(band + compared, 1)), 0.0, "fraction",
              "informational: points within 1.5 texels of a shadow edge", false},
       Metric{"shadowed.fraction", compared ? double(shadowed) / double(compared) : 0.0, 0.0, "fraction",
@@ -469,6 +564,7 @@ void addShadowMapCases(ValidationContext& /*ctx*/, std::vector<ValidationCase>& 
   out.push_back({"shadowmap/own-fibers", [](ValidationContext& c) { return runOwnFibers(c); }});
   out.push_back({"shadowmap/width", [](ValidationContext& c) { return runWidth(c); }});
   out.push_back({"shadowmap/embree", [](ValidationContext& c) { return runEmbree(c); }});
+  out.push_back({"shadowmap/pcf", [](ValidationContext& c) { return runPcf(c); }});
 }
 
 }  // namespace ft

@@ -504,7 +504,16 @@ float shadowMapVisibility(int i, vec3 p) {
   vec3 m = ftShadowNdcToMap(ftShadowNdc(shadowMap, ftShadowLightSpace(shadowMap, i, p)));
   ivec4 t = ftShadowTexel(shadowMap, m);
   if (t.w < 0) return 1.0;  // outside the map: no yarn there
-  return ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, t.x, t.y)]);
+  if (shadowMap.count.z != FT_SHADOW_FILTER_PCF)
+    return ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, t.x, t.y)]);
+  int n = int(shadowMap.count.y);
+  vec4 f = ftShadowPcfFootprint(m, n);
+  int x0 = ftShadowPcfTexel(f.x, 0, n), x1 = ftShadowPcfTexel(f.x, 1, n);
+  int y0 = ftShadowPcfTexel(f.y, 0, n), y1 = ftShadowPcfTexel(f.y, 1, n);
+  return ftShadowPcfCombine(f, ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, x0, y0)]),
+                            ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, x1, y0)]),
+                            ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, x0, y1)]),
+                            ftShadowVisibility(m.z, shadowMapTexels[ftShadowMapIndex(shadowMap, i, x1, y1)]));
 }
 
 // The lobes' (Z_R, Z_TT) at angles a from the table (common/bcsdf.h), not
