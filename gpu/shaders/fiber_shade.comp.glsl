@@ -5,7 +5,7 @@
 // the visibility pass wrote at the entry's sample; the colour goes to the
 // entry's samples of the shaded target, every other sample keeps the clear
 // colour, as in the forward frame. (Stored here, not by a draw of one point per
-// entry with gl_SampleMask: on llvmpipe that draw cost 85-95 ms at the whole
+// entry with gl_SampleMask: on llvmpipe that draw cost 83-93 ms at the whole
 // glove, docs/shaded-frame.md.)
 #include "common/constants.h"
 #define FT_DEFERRED_SHADE
