@@ -74,6 +74,11 @@ struct MultisampleTarget {
   }
 };
 
+// The compaction's tiles over a w × h target (fiber_compact_tiles.comp.glsl).
+static size_t deferredTileCount(int w, int h) {
+  return size_t((w + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE) * ((h + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE);
+}
+
 // Deferred shading's visibility target: FT_VISIBILITY_TARGETS 4× multisampled
 // RGBA32F textures (the hit records, fiber_strip.frag.glsl ftPackHit) with the
 // shaded target's depth, and the list of distinct hits (FT_SSBO_DEFERRED_LIST).
@@ -98,8 +103,7 @@ struct DeferredTarget {
     glNamedFramebufferDrawBuffers(fbo.id(), FT_VISIBILITY_TARGETS + 1, buffers);
     glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth, 0);
     // A header, at most one entry per sample (16 bytes each), then the tiles (16 bytes each).
-    const size_t tiles = size_t((w + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE) * ((h + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE);
-    list = makeBuffer(16 + (size_t(w) * h * FT_DEFERRED_SAMPLES + tiles) * 16, nullptr);
+    list = makeBuffer(16 + (size_t(w) * h * FT_DEFERRED_SAMPLES + deferredTileCount(w, h)) * 16, nullptr);
   }
 };
 
@@ -885,8 +889,7 @@ void FiberRenderer::drawDeferred(FiberGpu& fibers, FiberPath path, bool ds, bool
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, FT_SSBO_VISIBLE_LINES, seeing.id());
   glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   const uint32_t tileBase = uint32_t(width) * uint32_t(height) * FT_DEFERRED_SAMPLES;
-  const size_t allTiles = size_t((width + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE) *
-                          ((height + FT_DEFERRED_TILE - 1) / FT_DEFERRED_TILE);
+  const size_t allTiles = deferredTileCount(width, height);
   for (const Program* p : {&compactTilesProgram_, &compactProgram_}) {
     setUniform(p->id(), "size", glm::uvec2(width, height));
     setUniform(p->id(), "tileBase", tileBase);
